@@ -1,0 +1,10 @@
+// Subcommands of the `rheo` tool; each lives in its own file and registers itself here.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace rheo::cli {
+
+void register_simulate(CLI::App& app);
+
+}  // namespace rheo::cli

@@ -1,0 +1,23 @@
+// `rheo`: command-line front end. Each subcommand is registered from its own file.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "host/cli/commands.hpp"
+#include "sim/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "rheo: real-time rheological objects (three-element particle models) on a reference\n"
+      "simulator, a bit-true fixed-point model and an RTL core in Verilator."};
+  app.require_subcommand(1);
+  rheo::cli::register_simulate(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const rheo::Error& e) {
+    std::cerr << "rheo: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

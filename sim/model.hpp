@@ -1,0 +1,90 @@
+// Description of a particle-based rheological object (design.md §3) and its state.
+// Plain data shared by every backend: the reference simulator (sim/), the host's
+// conversion to fixed-point images (host/), the scenario loader and the fitters.
+// Units are SI throughout (m, kg, s, N); coordinates are z-up, the floor at z = 0,
+// the plate a horizontal plane above the object that moves down (pushes) and up.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/edge_kernel.hpp"
+
+namespace rheo {
+
+using Vec3 = Eigen::Vector3d;
+
+// A directed edge from particle s (start) to e (end) with its Voigt natural length L,
+// its rest length l0 (distance at construction) and an index into Model::materials.
+struct Edge {
+  int s = 0;
+  int e = 0;
+  double L = 0.0;
+  double l0 = 0.0;
+  int material = 0;
+};
+
+// Particle roles. Fixed particles never move (the floor layer); plate particles are the
+// top-surface particles the plate can touch (unilateral contact).
+enum ParticleFlag : std::uint8_t { kFree = 0, kFixed = 1, kPlate = 2 };
+
+// Topology-maintenance forces (seed 000 §4.2): when the signed distance of a vertex to
+// the opposite edge (2D) / face (3D) of its triangle/tetrahedron falls below
+// eps * (rest distance), a virtual Voigt element pushes it back.
+struct TopologyMaintenance {
+  bool enabled = false;
+  double eps = 0.2;   // fraction of the rest distance where the push starts
+  double k = 0.0;     // [N/m] virtual spring
+  double c = 0.0;     // [N s/m] virtual damper
+};
+
+// Area (2D) / volume (3D) preserving forces: per element, pressure-like force
+// -kv * (V - V0) / V0 * dV/dx_i (seed 000 textbook chapter, volumetric forces).
+struct VolumePreservation {
+  bool enabled = false;
+  double kv = 0.0;    // [N] per unit relative volume change
+};
+
+struct Model {
+  int dim = 3;                                  // 2 (triangles, z = 0) or 3 (tetrahedra)
+  std::vector<Vec3> x0;                         // initial positions [m]
+  std::vector<double> mass;                     // particle masses [kg]
+  std::vector<std::uint8_t> flags;              // ParticleFlag per particle
+  std::vector<Edge> edges;
+  std::vector<EdgeMaterial> materials;
+  std::vector<std::array<int, 3>> triangles;    // 2D elements (area forces, topology)
+  std::vector<std::array<int, 4>> tetrahedra;   // 3D elements (volume forces, topology)
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);         // [m/s^2]
+  bool floor = true;                            // unilateral floor at z = 0
+  TopologyMaintenance topology;
+  VolumePreservation volume;
+  double mass_scale = 1.0;                      // documented mass scaling factor already applied
+  double size = 0.0;                            // object size (largest extent) [m], for relative errors
+  double height = 0.0;                          // initial top-surface height [m] (plate contact height)
+  double top_area = 0.0;                        // top face area [m^2] (informational)
+
+  int num_particles() const { return static_cast<int>(x0.size()); }
+  int num_edges() const { return static_cast<int>(edges.size()); }
+};
+
+// Dynamic state: particle positions/velocities, per-edge Voigt length d and
+// Maxwell-arm extension m (zero when no arm).
+struct State {
+  std::vector<Vec3> x;
+  std::vector<Vec3> v;
+  std::vector<double> d;
+  std::vector<double> m;
+  double t = 0.0;
+};
+
+// Initial state: particles at rest at x0, d = L, m = 0.
+State initial_state(const Model& model);
+
+// Throws rheo::Error naming the offending particle/edge/material and what was expected
+// when masses, lengths or coefficients are non-positive, negative or not finite.
+void validate(const Model& model);
+
+}  // namespace rheo
