@@ -36,35 +36,36 @@ enum ParticleFlag : std::uint8_t { kFree = 0, kFixed = 1, kPlate = 2 };
 // eps * (rest distance), a virtual Voigt element pushes it back.
 struct TopologyMaintenance {
   bool enabled = false;
-  double eps = 0.2;   // fraction of the rest distance where the push starts
-  double k = 0.0;     // [N/m] virtual spring
-  double c = 0.0;     // [N s/m] virtual damper
+  double eps = 0.2;  // fraction of the rest distance where the push starts
+  double k = 0.0;    // [N/m] virtual spring
+  double c = 0.0;    // [N s/m] virtual damper
 };
 
 // Area (2D) / volume (3D) preserving forces: per element, pressure-like force
-// -kv * (V - V0) / V0 * dV/dx_i (seed 000 textbook chapter, volumetric forces).
+// -kv * (V - V0) / |V0| * dV/dx_i (seed 000 textbook chapter, volumetric forces), i.e. the
+// gradient of the potential kv (V - V0)^2 / (2 |V0|). In 2D V is the triangle's area.
 struct VolumePreservation {
   bool enabled = false;
-  double kv = 0.0;    // [N] per unit relative volume change
+  double kv = 0.0;  // bulk-modulus-like pressure per unit relative change [Pa] (2D: [N/m])
 };
 
 struct Model {
-  int dim = 3;                                  // 2 (triangles, z = 0) or 3 (tetrahedra)
-  std::vector<Vec3> x0;                         // initial positions [m]
-  std::vector<double> mass;                     // particle masses [kg]
-  std::vector<std::uint8_t> flags;              // ParticleFlag per particle
+  int dim = 3;                      // 2 (triangles, z = 0) or 3 (tetrahedra)
+  std::vector<Vec3> x0;             // initial positions [m]
+  std::vector<double> mass;         // particle masses [kg]
+  std::vector<std::uint8_t> flags;  // ParticleFlag per particle
   std::vector<Edge> edges;
   std::vector<EdgeMaterial> materials;
-  std::vector<std::array<int, 3>> triangles;    // 2D elements (area forces, topology)
-  std::vector<std::array<int, 4>> tetrahedra;   // 3D elements (volume forces, topology)
-  Vec3 gravity = Vec3(0.0, 0.0, -9.81);         // [m/s^2]
-  bool floor = true;                            // unilateral floor at z = 0
+  std::vector<std::array<int, 3>> triangles;   // 2D elements (area forces, topology)
+  std::vector<std::array<int, 4>> tetrahedra;  // 3D elements (volume forces, topology)
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);        // [m/s^2]
+  bool floor = true;                           // unilateral floor at z = 0
   TopologyMaintenance topology;
   VolumePreservation volume;
-  double mass_scale = 1.0;                      // documented mass scaling factor already applied
-  double size = 0.0;                            // object size (largest extent) [m], for relative errors
-  double height = 0.0;                          // initial top-surface height [m] (plate contact height)
-  double top_area = 0.0;                        // top face area [m^2] (informational)
+  double mass_scale = 1.0;  // documented mass scaling factor already applied
+  double size = 0.0;        // object size (largest extent) [m], for relative errors
+  double height = 0.0;      // initial top-surface height [m] (plate contact height)
+  double top_area = 0.0;    // top face area [m^2] (informational)
 
   int num_particles() const { return static_cast<int>(x0.size()); }
   int num_edges() const { return static_cast<int>(edges.size()); }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "sim/model.hpp"
 
@@ -12,9 +13,9 @@ namespace rheo {
 enum class Integrator { kSemiImplicitEuler, kRK4 };
 
 struct SimOptions {
-  double dt = 1e-4;                                   // [s]
+  double dt = 1e-4;  // [s]
   Integrator integrator = Integrator::kSemiImplicitEuler;
-  bool check_stability = true;                        // refuse dt above the explicit bound
+  bool check_stability = true;  // refuse dt above the explicit bound
 };
 
 // What one step reports: the plate's reaction force (positive in compression: the sum
@@ -26,10 +27,36 @@ struct StepReport {
   int contacts = 0;
 };
 
-// Largest dt for which the explicit integrator is stable on this model (estimate from
-// per-particle stiffness and damping sums, with a safety factor). See simulator.cpp.
+// Largest dt for which the explicit integrator is stable on this model. Conservative
+// estimate, the minimum of:
+//  - per particle i (free or plate): K_i = sum of k1 + k2 of its edges (+ topology k and
+//    volume stiffness kv |dV/dx_i|^2 / V0 of its elements), C_i = sum of the edges' largest
+//    instantaneous damping c1*c2/(c1+c2) (c2 = c_max for the nonlinear damper) + topology c.
+//    By block Gershgorin the network's largest M^-1 K eigenvalue is at most a = 2 K_i / m_i,
+//    likewise b = 2 C_i / m_i. Semi-implicit Euler on x'' = -a x - b x' is stable iff
+//    dt^2 a + 2 dt b < 4, i.e. dt < (sqrt(b^2 + 4a) - b) / a  (= 2/b when a = 0).
+//    RK4: dt * (b/2 + sqrt(b^2/4 + a)) < 2.5 (the RK4 region holds |z| <= 2.5 for the
+//    relevant left half-plane directions).
+//  - per edge, the explicit update of its internal states: d relaxes with rate
+//    k1/(c1+c2) -> dt < 2 (c1+c2_min)/k1 (RK4: 2.78 (c1+c2_min)/k1); the Maxwell arm
+//    relaxes with rate k2/c3 -> dt < 2 c3/k2 (RK4: 2.78 c3/k2).
+// The result is multiplied by a safety factor of 0.9 (strain hardening and the coupling of
+// d with positions are not in the bound).
 double max_stable_dt(const Model& model, Integrator integrator);
 
+// One semi-implicit Euler step (the rule the hardware copies exactly):
+//  1. From the current state: internal forces F_i (edges, topology maintenance, volume),
+//     each edge's ddot, mdot and current length l.
+//  2. Each particle: fixed -> x = x0, v = 0. Otherwise v += dt*(F_i/m_i + g + F_ext,i/m_i);
+//     x += dt*v; floor (if enabled): if x.z < 0 then x.z = 0, v.z = max(v.z, 0);
+//     if the particle is kPlate and x.z > plate_z then x.z = plate_z, v.z = min(v.z, 0):
+//     it is in contact and plate_force += F_i.z (internal force only; positive = pushes
+//     the plate up = compression). The plate is unilateral: it never pulls.
+//  3. Each edge: d = clamp(d + dt*ddot, a_min*l, a_max*l) with l from step 1; m += dt*mdot.
+// The caller gives the plate height: plate_z = model.height - plate_mm / 1000.
+// RK4 integrates (x, v, d, m) with the classical four stages (fixed particles frozen),
+// then applies the same floor, plate and d-clamp projections; its plate force uses the
+// internal forces of the first stage.
 class Simulator {
  public:
   // Throws rheo::Error if the model is invalid or dt is above max_stable_dt (the message
@@ -50,13 +77,49 @@ class Simulator {
   void internal_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
                        std::vector<double>& mdot) const;
 
-  // Total mechanical energy (kinetic + Voigt/Maxwell springs + gravity potential).
+  // Total mechanical energy (kinetic + Voigt/Maxwell springs + gravity potential +
+  // topology and volume potentials), fixed particles excluded.
   double energy() const;
 
+  // Constant external force per particle [N] (e.g. the load of seed 000's 1-D chain
+  // examples); an empty vector means none.
+  void set_external_force(std::vector<Vec3> force);
+
+  // Number of steps taken so far.
+  long long steps() const { return steps_; }
+
  private:
+  // Per (element, vertex) rest data of the topology-maintenance force: vertex i, the
+  // opposite edge (a, b; c = -1) in 2D or face (a, b, c) in 3D, the rest distance h0 and
+  // the orientation sign that makes the signed distance positive at rest.
+  struct TopologyPair {
+    int i, a, b, c;
+    double h0;
+    double sign;
+  };
+  void compute_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
+                      std::vector<double>& mdot, std::vector<double>* lengths) const;
+  void add_topology_forces(const State& s, std::vector<Vec3>& f) const;
+  void add_volume_forces(const State& s, std::vector<Vec3>& f) const;
+  double element_volume(const std::vector<Vec3>& x, std::size_t element) const;
+  StepReport step_sie(double plate_z);
+  StepReport step_rk4(double plate_z);
+  StepReport apply_constraints(double plate_z, const std::vector<Vec3>& f_start);
+  void check_finite() const;
+
   Model model_;
   SimOptions options_;
   State state_;
+  std::vector<Vec3> external_;
+  std::vector<TopologyPair> topology_pairs_;
+  std::vector<double> rest_volume_;  // signed rest area (2D) / volume (3D) per element
+  long long steps_ = 0;
+  // Scratch buffers reused every step (no allocation in the time loop).
+  std::vector<Vec3> force_;
+  std::vector<double> ddot_, mdot_, length_;
+  std::vector<State> stage_;
+  std::vector<std::vector<Vec3>> stage_f_;
+  std::vector<std::vector<double>> stage_ddot_, stage_mdot_;
 };
 
 }  // namespace rheo

@@ -1,0 +1,473 @@
+#include "sim/simulator.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "sim/error.hpp"
+
+namespace rheo {
+
+namespace {
+
+// Safety margin on the stability estimate: hardening and the d-x coupling are not in it.
+constexpr double kStabilitySafety = 0.9;
+// Classical RK4 stays stable for |dt*lambda| up to about 2.5 in the directions that occur
+// here (2.785 on the negative real axis, 2.83 on the imaginary axis).
+constexpr double kRk4Radius = 2.5;
+// RK4's stability interval on the negative real axis (first-order relaxations of d, m).
+constexpr double kRk4RealAxis = 2.78;
+
+bool is_fixed(std::uint8_t flag) { return flag == kFixed; }
+
+std::size_t element_count(const Model& m) {
+  return m.dim == 2 ? m.triangles.size() : m.tetrahedra.size();
+}
+
+int element_vertex_count(const Model& m) { return m.dim == 2 ? 3 : 4; }
+
+int element_vertex(const Model& m, std::size_t element, int v) {
+  return m.dim == 2 ? m.triangles[element][v] : m.tetrahedra[element][v];
+}
+
+// Signed area in the x-z plane (2D) or signed volume (3D) and its gradient with respect
+// to each vertex. 2D: A = ((b-a)_z (c-a)_x - (b-a)_x (c-a)_z) / 2.
+double signed_measure(int dim, const Vec3* p, Vec3* grad) {
+  if (dim == 2) {
+    const Vec3 ab = p[1] - p[0], ac = p[2] - p[0];
+    const double area = 0.5 * (ab.z() * ac.x() - ab.x() * ac.z());
+    if (grad) {
+      grad[1] = 0.5 * Vec3(-ac.z(), 0.0, ac.x());
+      grad[2] = 0.5 * Vec3(ab.z(), 0.0, -ab.x());
+      grad[0] = -(grad[1] + grad[2]);
+    }
+    return area;
+  }
+  const Vec3 ab = p[1] - p[0], ac = p[2] - p[0], ad = p[3] - p[0];
+  const double volume = ab.dot(ac.cross(ad)) / 6.0;
+  if (grad) {
+    grad[1] = ac.cross(ad) / 6.0;
+    grad[2] = ad.cross(ab) / 6.0;
+    grad[3] = ab.cross(ac) / 6.0;
+    grad[0] = -(grad[1] + grad[2] + grad[3]);
+  }
+  return volume;
+}
+
+// Geometry of a vertex against its opposite edge (2D, in the x-z plane) or face (3D):
+// unit normal n (unsigned orientation), signed distance along n and the weights of the
+// foot point on the edge/face vertices (they sum to 1 and reproduce the foot point, so the
+// reaction forces keep both momentum and angular momentum).
+struct VertexFaceGeometry {
+  Vec3 n;
+  double distance;
+  double w[3];
+};
+
+VertexFaceGeometry vertex_face(int dim, const Vec3& xi, const Vec3& a, const Vec3& b,
+                               const Vec3& c) {
+  VertexFaceGeometry g;
+  if (dim == 2) {
+    const Vec3 e = b - a;
+    const double len2 = e.squaredNorm();
+    g.n = Vec3(e.z(), 0.0, -e.x()) / std::sqrt(len2);
+    g.distance = g.n.dot(xi - a);
+    const double t = (xi - a).dot(e) / len2;
+    g.w[0] = 1.0 - t;
+    g.w[1] = t;
+    g.w[2] = 0.0;
+    return g;
+  }
+  const Vec3 nn = (b - a).cross(c - a);
+  const double nn2 = nn.squaredNorm();
+  g.n = nn / std::sqrt(nn2);
+  g.distance = g.n.dot(xi - a);
+  const Vec3 foot = xi - g.distance * g.n;
+  g.w[0] = (b - foot).cross(c - foot).dot(nn) / nn2;
+  g.w[1] = (c - foot).cross(a - foot).dot(nn) / nn2;
+  g.w[2] = 1.0 - g.w[0] - g.w[1];
+  return g;
+}
+
+}  // namespace
+
+double max_stable_dt(const Model& model, Integrator integrator) {
+  const int n = model.num_particles();
+  std::vector<double> stiffness(n, 0.0), damping(n, 0.0);
+  double bound = std::numeric_limits<double>::infinity();
+  const double relax_radius = integrator == Integrator::kRK4 ? kRk4RealAxis : 2.0;
+  for (const Edge& e : model.edges) {
+    const EdgeMaterial& m = model.materials[e.material];
+    double k = m.k1;
+    if (m.has_maxwell_arm()) {
+      k += m.k2;
+      bound = std::min(bound, relax_radius * m.c3 / m.k2);
+    }
+    // c2 is the largest series viscosity (c_max of the nonlinear damper); c1 c2/(c1+c2)
+    // grows with c2, so this is the largest instantaneous damping of the edge.
+    const double c = m.c1 * m.c2 / (m.c1 + m.c2);
+    stiffness[e.s] += k;
+    stiffness[e.e] += k;
+    damping[e.s] += c;
+    damping[e.e] += c;
+    const double c2_smallest = m.nonlinear ? std::min(m.c2, m.c2_min) : m.c2;
+    if (m.k1 > 0.0) bound = std::min(bound, relax_radius * (m.c1 + c2_smallest) / m.k1);
+  }
+  const int nv = element_vertex_count(model);
+  for (std::size_t el = 0; el < element_count(model); ++el) {
+    Vec3 p[4], grad[4];
+    for (int v = 0; v < nv; ++v) p[v] = model.x0[element_vertex(model, el, v)];
+    const double rest = std::abs(signed_measure(model.dim, p, grad));
+    for (int v = 0; v < nv; ++v) {
+      const int i = element_vertex(model, el, v);
+      if (model.topology.enabled) {
+        stiffness[i] += model.topology.k;
+        damping[i] += model.topology.c;
+      }
+      if (model.volume.enabled && rest > 0.0) {
+        stiffness[i] += model.volume.kv * grad[v].squaredNorm() / rest;
+      }
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    if (is_fixed(model.flags[i])) continue;
+    // Block Gershgorin: the largest eigenvalue of M^-1 K is at most 2 K_i / m_i.
+    const double a = 2.0 * stiffness[i] / model.mass[i];
+    const double b = 2.0 * damping[i] / model.mass[i];
+    double dt = std::numeric_limits<double>::infinity();
+    if (integrator == Integrator::kSemiImplicitEuler) {
+      if (a > 0.0) {
+        dt = (std::sqrt(b * b + 4.0 * a) - b) / a;
+      } else if (b > 0.0) {
+        dt = 2.0 / b;
+      }
+    } else {
+      const double lambda = 0.5 * b + std::sqrt(0.25 * b * b + a);
+      if (lambda > 0.0) dt = kRk4Radius / lambda;
+    }
+    bound = std::min(bound, dt);
+  }
+  return kStabilitySafety * bound;
+}
+
+Simulator::Simulator(Model model, SimOptions options)
+    : model_(std::move(model)), options_(options) {
+  validate(model_);
+  if (!std::isfinite(options_.dt) || options_.dt <= 0.0) {
+    throw Error("dt = " + std::to_string(options_.dt) + " s: expected a finite value > 0");
+  }
+  if (options_.check_stability) {
+    const double safe = max_stable_dt(model_, options_.integrator);
+    if (options_.dt > safe) {
+      std::ostringstream os;
+      os.precision(4);
+      os << "dt = " << options_.dt
+         << " s exceeds the explicit stability bound of this model; the largest safe dt is " << safe
+         << " s";
+      throw Error(os.str());
+    }
+  }
+  state_ = initial_state(model_);
+
+  const int nv = element_vertex_count(model_);
+  for (std::size_t el = 0; el < element_count(model_); ++el) {
+    Vec3 p[4];
+    int id[4] = {-1, -1, -1, -1};
+    for (int v = 0; v < nv; ++v) {
+      id[v] = element_vertex(model_, el, v);
+      p[v] = model_.x0[id[v]];
+    }
+    const double rest = signed_measure(model_.dim, p, nullptr);
+    if ((model_.topology.enabled || model_.volume.enabled) && !(std::abs(rest) > 0.0)) {
+      throw Error("invalid model: element " + std::to_string(el) +
+                  " has zero rest area/volume; expected a non-degenerate element");
+    }
+    if (model_.volume.enabled) rest_volume_.push_back(rest);
+    if (!model_.topology.enabled) continue;
+    for (int v = 0; v < nv; ++v) {
+      TopologyPair pair{
+          id[v], id[(v + 1) % nv], id[(v + 2) % nv], nv == 4 ? id[(v + 3) % nv] : -1, 0.0, 1.0};
+      const Vec3 c = pair.c >= 0 ? model_.x0[pair.c] : Vec3::Zero();
+      const VertexFaceGeometry g =
+          vertex_face(model_.dim, model_.x0[pair.i], model_.x0[pair.a], model_.x0[pair.b], c);
+      pair.sign = g.distance >= 0.0 ? 1.0 : -1.0;
+      pair.h0 = std::abs(g.distance);
+      topology_pairs_.push_back(pair);
+    }
+  }
+  force_.resize(model_.num_particles());
+  ddot_.resize(model_.num_edges());
+  mdot_.resize(model_.num_edges());
+  length_.resize(model_.num_edges());
+}
+
+void Simulator::set_external_force(std::vector<Vec3> force) {
+  if (!force.empty() && static_cast<int>(force.size()) != model_.num_particles()) {
+    throw Error("external force: " + std::to_string(force.size()) +
+                " vectors given, expected one per particle (" +
+                std::to_string(model_.num_particles()) + ") or none");
+  }
+  external_ = std::move(force);
+}
+
+void Simulator::internal_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
+                                std::vector<double>& mdot) const {
+  compute_forces(s, f, ddot, mdot, nullptr);
+}
+
+void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
+                               std::vector<double>& mdot, std::vector<double>* lengths) const {
+  const int n = model_.num_particles();
+  const int ne = model_.num_edges();
+  f.assign(n, Vec3::Zero());
+  ddot.resize(ne);
+  mdot.resize(ne);
+  if (lengths) lengths->resize(ne);
+  const Edge* edges = model_.edges.data();
+  const EdgeMaterial* materials = model_.materials.data();
+  const Vec3* x = s.x.data();
+  const Vec3* v = s.v.data();
+  Vec3* force = f.data();
+  for (int k = 0; k < ne; ++k) {
+    const Edge& e = edges[k];
+    const EdgeEval<double> r = evaluate_edge<double>(materials[e.material], x[e.s], x[e.e], v[e.s],
+                                                     v[e.e], s.d[k], e.L, e.l0, s.m[k]);
+    const Vec3 pull = (r.tension / r.length) * (x[e.e] - x[e.s]);
+    force[e.s] += pull;
+    force[e.e] -= pull;
+    ddot[k] = r.ddot;
+    mdot[k] = r.mdot;
+    if (lengths) (*lengths)[k] = r.length;
+  }
+  if (model_.topology.enabled) add_topology_forces(s, f);
+  if (model_.volume.enabled) add_volume_forces(s, f);
+}
+
+void Simulator::add_topology_forces(const State& s, std::vector<Vec3>& f) const {
+  const TopologyMaintenance& tm = model_.topology;
+  for (const TopologyPair& p : topology_pairs_) {
+    const Vec3 c = p.c >= 0 ? s.x[p.c] : Vec3::Zero();
+    const VertexFaceGeometry g = vertex_face(model_.dim, s.x[p.i], s.x[p.a], s.x[p.b], c);
+    const double h = p.sign * g.distance;
+    const double threshold = tm.eps * p.h0;
+    if (h >= threshold) continue;
+    // Oriented so that pushing along n increases the signed distance.
+    const Vec3 n = p.sign * g.n;
+    Vec3 v_foot = g.w[0] * s.v[p.a] + g.w[1] * s.v[p.b];
+    if (p.c >= 0) v_foot += g.w[2] * s.v[p.c];
+    const double hdot = n.dot(s.v[p.i] - v_foot);
+    // Virtual Voigt element that only pushes (it never pulls the vertex back in).
+    const double push = std::max(0.0, tm.k * (threshold - h) - tm.c * hdot);
+    if (push == 0.0) continue;
+    const Vec3 fp = push * n;
+    f[p.i] += fp;
+    f[p.a] -= g.w[0] * fp;
+    f[p.b] -= g.w[1] * fp;
+    if (p.c >= 0) f[p.c] -= g.w[2] * fp;
+  }
+}
+
+double Simulator::element_volume(const std::vector<Vec3>& x, std::size_t element) const {
+  Vec3 p[4];
+  for (int v = 0; v < element_vertex_count(model_); ++v) {
+    p[v] = x[element_vertex(model_, element, v)];
+  }
+  return signed_measure(model_.dim, p, nullptr);
+}
+
+void Simulator::add_volume_forces(const State& s, std::vector<Vec3>& f) const {
+  const int nv = element_vertex_count(model_);
+  for (std::size_t el = 0; el < rest_volume_.size(); ++el) {
+    Vec3 p[4], grad[4];
+    for (int v = 0; v < nv; ++v) p[v] = s.x[element_vertex(model_, el, v)];
+    const double vol = signed_measure(model_.dim, p, grad);
+    const double rest = rest_volume_[el];
+    // Divided by |V0|: the signed measure may be negative for a clockwise element, and the
+    // force must still be the gradient of kv (V - V0)^2 / (2 |V0|).
+    const double pressure = -model_.volume.kv * (vol - rest) / std::abs(rest);
+    for (int v = 0; v < nv; ++v) f[element_vertex(model_, el, v)] += pressure * grad[v];
+  }
+}
+
+StepReport Simulator::step(double plate_z) {
+  StepReport report =
+      options_.integrator == Integrator::kRK4 ? step_rk4(plate_z) : step_sie(plate_z);
+  ++steps_;
+  state_.t += options_.dt;
+  check_finite();
+  if (!std::isfinite(report.plate_force_N)) {
+    throw Error("non-finite plate force at step " + std::to_string(steps_));
+  }
+  return report;
+}
+
+StepReport Simulator::step_sie(double plate_z) {
+  compute_forces(state_, force_, ddot_, mdot_, &length_);
+  const double dt = options_.dt;
+  const Vec3 g = model_.gravity;
+  const bool floor = model_.floor;
+  const bool external = !external_.empty();
+  StepReport report;
+  report.plate_z = plate_z;
+  const int n = model_.num_particles();
+  for (int i = 0; i < n; ++i) {
+    Vec3& x = state_.x[i];
+    Vec3& v = state_.v[i];
+    const std::uint8_t flag = model_.flags[i];
+    if (is_fixed(flag)) {
+      x = model_.x0[i];
+      v.setZero();
+      continue;
+    }
+    Vec3 accel = force_[i] / model_.mass[i] + g;
+    if (external) accel += external_[i] / model_.mass[i];
+    v += dt * accel;
+    x += dt * v;
+    if (floor && x.z() < 0.0) {
+      x.z() = 0.0;
+      v.z() = std::max(v.z(), 0.0);
+    }
+    if (flag == kPlate && x.z() > plate_z) {
+      x.z() = plate_z;
+      v.z() = std::min(v.z(), 0.0);
+      report.plate_force_N += force_[i].z();
+      ++report.contacts;
+    }
+  }
+  const int ne = model_.num_edges();
+  const bool any_arm = std::any_of(model_.materials.begin(), model_.materials.end(),
+                                   [](const EdgeMaterial& m) { return m.has_maxwell_arm(); });
+  for (int k = 0; k < ne; ++k) {
+    const EdgeMaterial& m = model_.materials[model_.edges[k].material];
+    state_.d[k] = clamp_voigt_length(m, state_.d[k] + dt * ddot_[k], length_[k]);
+  }
+  if (any_arm) {
+    for (int k = 0; k < ne; ++k) state_.m[k] += dt * mdot_[k];
+  }
+  return report;
+}
+
+StepReport Simulator::step_rk4(double plate_z) {
+  const double dt = options_.dt;
+  const int n = model_.num_particles();
+  const int ne = model_.num_edges();
+  stage_.resize(4);
+  stage_f_.resize(4);
+  stage_ddot_.resize(4);
+  stage_mdot_.resize(4);
+  // Acceleration of particle i in stage j (zero for fixed particles).
+  auto accel = [&](int j, int i) -> Vec3 {
+    if (is_fixed(model_.flags[i])) return Vec3::Zero();
+    Vec3 a = stage_f_[j][i] / model_.mass[i] + model_.gravity;
+    if (!external_.empty()) a += external_[i] / model_.mass[i];
+    return a;
+  };
+  auto velocity = [&](int j, int i) -> Vec3 {
+    return is_fixed(model_.flags[i]) ? Vec3::Zero() : Vec3(stage_[j].v[i]);
+  };
+  stage_[0] = state_;
+  compute_forces(stage_[0], stage_f_[0], stage_ddot_[0], stage_mdot_[0], &length_);
+  const double factor[3] = {0.5 * dt, 0.5 * dt, dt};
+  for (int j = 1; j < 4; ++j) {
+    State& sj = stage_[j];
+    sj = state_;
+    const double h = factor[j - 1];
+    for (int i = 0; i < n; ++i) {
+      sj.x[i] += h * velocity(j - 1, i);
+      sj.v[i] += h * accel(j - 1, i);
+    }
+    for (int k = 0; k < ne; ++k) {
+      sj.d[k] += h * stage_ddot_[j - 1][k];
+      sj.m[k] += h * stage_mdot_[j - 1][k];
+    }
+    compute_forces(sj, stage_f_[j], stage_ddot_[j], stage_mdot_[j], nullptr);
+  }
+  const double w = dt / 6.0;
+  StepReport report;
+  report.plate_z = plate_z;
+  for (int i = 0; i < n; ++i) {
+    Vec3& x = state_.x[i];
+    Vec3& v = state_.v[i];
+    const std::uint8_t flag = model_.flags[i];
+    if (is_fixed(flag)) {
+      x = model_.x0[i];
+      v.setZero();
+      continue;
+    }
+    x += w * (velocity(0, i) + 2.0 * velocity(1, i) + 2.0 * velocity(2, i) + velocity(3, i));
+    v += w * (accel(0, i) + 2.0 * accel(1, i) + 2.0 * accel(2, i) + accel(3, i));
+    if (model_.floor && x.z() < 0.0) {
+      x.z() = 0.0;
+      v.z() = std::max(v.z(), 0.0);
+    }
+    if (flag == kPlate && x.z() > plate_z) {
+      x.z() = plate_z;
+      v.z() = std::min(v.z(), 0.0);
+      report.plate_force_N += stage_f_[0][i].z();
+      ++report.contacts;
+    }
+  }
+  for (int k = 0; k < ne; ++k) {
+    const EdgeMaterial& m = model_.materials[model_.edges[k].material];
+    const double dd =
+        stage_ddot_[0][k] + 2.0 * stage_ddot_[1][k] + 2.0 * stage_ddot_[2][k] + stage_ddot_[3][k];
+    state_.d[k] = clamp_voigt_length(m, state_.d[k] + w * dd, length_[k]);
+    state_.m[k] += w * (stage_mdot_[0][k] + 2.0 * stage_mdot_[1][k] + 2.0 * stage_mdot_[2][k] +
+                        stage_mdot_[3][k]);
+  }
+  return report;
+}
+
+void Simulator::check_finite() const {
+  auto fail = [this](const std::string& what) {
+    std::ostringstream os;
+    os << "numerical failure at step " << steps_ << " (t = " << state_.t << " s): " << what
+       << " is not finite (unstable dt or diverging model)";
+    throw Error(os.str());
+  };
+  for (int i = 0; i < model_.num_particles(); ++i) {
+    if (!state_.x[i].allFinite()) fail("position of particle " + std::to_string(i));
+    if (!state_.v[i].allFinite()) fail("velocity of particle " + std::to_string(i));
+  }
+  for (int k = 0; k < model_.num_edges(); ++k) {
+    if (!std::isfinite(state_.d[k])) fail("Voigt length d of edge " + std::to_string(k));
+    if (!std::isfinite(state_.m[k])) fail("Maxwell-arm extension of edge " + std::to_string(k));
+  }
+}
+
+double Simulator::energy() const {
+  double e = 0.0;
+  for (int i = 0; i < model_.num_particles(); ++i) {
+    if (is_fixed(model_.flags[i])) continue;
+    e += 0.5 * model_.mass[i] * state_.v[i].squaredNorm();
+    e -= model_.mass[i] * model_.gravity.dot(state_.x[i]);
+  }
+  for (int k = 0; k < model_.num_edges(); ++k) {
+    const Edge& edge = model_.edges[k];
+    const EdgeMaterial& m = model_.materials[edge.material];
+    const double stretch = state_.d[k] - edge.L;
+    e += 0.5 * m.k1 * stretch * stretch;
+    if (m.has_maxwell_arm()) e += 0.5 * m.k2 * state_.m[k] * state_.m[k];
+  }
+  if (model_.volume.enabled) {
+    for (std::size_t el = 0; el < rest_volume_.size(); ++el) {
+      const double change = element_volume(state_.x, el) - rest_volume_[el];
+      e += 0.5 * model_.volume.kv * change * change / std::abs(rest_volume_[el]);
+    }
+  }
+  if (model_.topology.enabled) {
+    for (const TopologyPair& p : topology_pairs_) {
+      const Vec3 c = p.c >= 0 ? state_.x[p.c] : Vec3::Zero();
+      const double h =
+          p.sign * vertex_face(model_.dim, state_.x[p.i], state_.x[p.a], state_.x[p.b], c).distance;
+      const double gap = model_.topology.eps * p.h0 - h;
+      if (gap > 0.0) e += 0.5 * model_.topology.k * gap * gap;
+    }
+  }
+  return e;
+}
+
+}  // namespace rheo
