@@ -1,0 +1,361 @@
+#include "host/identify/fit.hpp"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sim/error.hpp"
+
+namespace rheo::identify {
+namespace {
+
+// Distance to a bound (in the optimiser's coordinates, as a fraction of the range) below
+// which a parameter counts as stuck there and gets no interval.
+constexpr double kStuckFraction = 1e-3;
+// Two-sided 95 % normal quantile for the confidence intervals.
+constexpr double kZ95 = 1.959963984540054;
+
+double to_internal(const ParamSpec& p, double v) { return p.log_scale ? std::log(v) : v; }
+double to_physical(const ParamSpec& p, double x) { return p.log_scale ? std::exp(x) : x; }
+
+int residual_count(const std::vector<Measurement>& data, const FitOptions& o) {
+  int n = 0;
+  for (const auto& m : data) {
+    n += static_cast<int>(m.size());
+    if (o.use_surface) {
+      for (double s : m.surface_mm) n += std::isnan(s) ? 0 : 1;
+    }
+  }
+  return n;
+}
+
+// Fills residuals (prediction - measurement); returns false on numerical trouble so the
+// trust region shrinks instead of accepting garbage.
+bool residuals_of(const std::vector<Measurement>& data, const ModelSpec& spec,
+                  const std::vector<double>& values, const FitOptions& o, double* r) {
+  SpecimenParams p;
+  try {
+    p = to_params(spec, values);
+    int k = 0;
+    for (const auto& m : data) {
+      const Prediction pr = simulate(m, p, o.simulation);
+      for (std::size_t i = 0; i < m.size(); ++i) r[k++] = pr.force_N[i] - m.force_N[i];
+      if (o.use_surface) {
+        for (std::size_t i = 0; i < m.size(); ++i) {
+          if (!std::isnan(m.surface_mm[i])) {
+            r[k++] = o.surface_weight_N_per_mm * (pr.surface_mm[i] - m.surface_mm[i]);
+          }
+        }
+      }
+    }
+  } catch (const Error&) {
+    return false;
+  }
+  return true;
+}
+
+struct ColumnResiduals {
+  const std::vector<Measurement>* data;
+  const ModelSpec* spec;
+  const FitOptions* options;
+  bool operator()(double const* const* x, double* r) const {
+    std::vector<double> values(spec->params.size());
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      values[i] = to_physical(spec->params[i], x[0][i]);
+    }
+    return residuals_of(*data, *spec, values, *options, r);
+  }
+};
+
+double clamp_into(const ParamSpec& p, double v) {
+  // Starts strictly inside the bounds (Ceres requires feasible starts).
+  const double lo = to_internal(p, p.lower), hi = to_internal(p, p.upper);
+  const double margin = 1e-2 * (hi - lo);
+  return std::clamp(to_internal(p, v), lo + margin, hi - margin);
+}
+
+}  // namespace
+
+std::string ModelSpec::name() const {
+  return extension == Extension::kNone ? "three_element" : "three_element+" + cause_name(extension);
+}
+
+DataScales data_scales(const std::vector<Measurement>& data) {
+  if (data.empty()) throw Error("fit: no measurement files given");
+  DataScales s;
+  double peak_stress = 0.0, peak_strain = 0.0;
+  s.min_gap_s = std::numeric_limits<double>::infinity();
+  s.duration_s = 0.0;
+  for (const auto& m : data) {
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      peak_stress = std::max(peak_stress, std::abs(m.force_N[i]) / m.geometry.area_m2());
+      peak_strain = std::max(peak_strain, m.plate_mm[i] / m.geometry.height_mm);
+      s.peak_force_N = std::max(s.peak_force_N, std::abs(m.force_N[i]));
+      if (i > 0) s.min_gap_s = std::min(s.min_gap_s, m.time_s[i] - m.time_s[i - 1]);
+    }
+    s.min_gap_s = std::min(s.min_gap_s, m.time_s.front() > 0 ? m.time_s.front() : s.min_gap_s);
+    s.duration_s = std::max(s.duration_s, m.time_s.back());
+  }
+  if (!(peak_strain > 0.0)) {
+    throw Error(data.front().source + ": plate_mm never positive, expected the plate to push");
+  }
+  if (!(peak_stress > 0.0)) {
+    throw Error(data.front().source + ": force_N is zero everywhere, nothing to fit");
+  }
+  s.modulus_Pa = peak_stress / peak_strain;
+  return s;
+}
+
+ModelSpec model_spec(Extension e, const DataScales& s) {
+  const double M = s.modulus_Pa;
+  const double eta_lo = M * s.min_gap_s * 0.1;
+  const double eta_hi = M * s.duration_s * 1e3;
+  ModelSpec spec;
+  spec.extension = e;
+  spec.params = {{"E1_Pa", M * 1e-3, M * 1e3, true},
+                 {"c1_Pa_s", eta_lo, eta_hi, true},
+                 {"c2_Pa_s", eta_lo, eta_hi, true}};
+  switch (e) {
+    case Extension::kNone:
+      break;
+    case Extension::kSecondRelaxationTime:
+      spec.params.push_back({"E2_Pa", M * 1e-4, M * 1e3, true});
+      spec.params.push_back({"c3_Pa_s", eta_lo, eta_hi, true});
+      break;
+    case Extension::kForceDependentDamping:
+      spec.params.push_back({"damping_stress_Pa", M * 1e-4, M * 1e2, true});
+      spec.params.push_back({"damping_ratio", 1.001, 1e4, true});
+      break;
+    case Extension::kStrainHardening:
+      spec.params.push_back({"hardening", 1e-4, 1e4, true});
+      break;
+    case Extension::kSensorLag:
+      spec.params.push_back({"lag_s", std::max(1e-4, s.min_gap_s * 1e-2), s.duration_s, true});
+      break;
+    case Extension::kSensorOffset:
+      spec.params.push_back({"offset_N", -s.peak_force_N, s.peak_force_N, false});
+      break;
+  }
+  return spec;
+}
+
+SpecimenParams to_params(const ModelSpec& spec, const std::vector<double>& v) {
+  if (v.size() != spec.params.size()) throw Error("fit: parameter count does not match the model");
+  SpecimenParams p;
+  p.E1 = v[0];
+  p.c1 = v[1];
+  p.c2 = v[2];
+  switch (spec.extension) {
+    case Extension::kNone:
+      break;
+    case Extension::kSecondRelaxationTime:
+      p.E2 = v[3];
+      p.c3 = v[4];
+      break;
+    case Extension::kForceDependentDamping:
+      p.damping_stress = v[3];
+      p.damping_ratio = v[4];
+      break;
+    case Extension::kStrainHardening:
+      p.hardening = v[3];
+      break;
+    case Extension::kSensorLag:
+      p.lag_s = v[3];
+      break;
+    case Extension::kSensorOffset:
+      p.offset_N = v[3];
+      break;
+  }
+  return p;
+}
+
+double force_rmse(const std::vector<Measurement>& data, const ModelSpec& spec,
+                  const std::vector<double>& values, const SimulationOptions& sim) {
+  const SpecimenParams p = to_params(spec, values);
+  double ss = 0.0;
+  std::size_t n = 0;
+  for (const auto& m : data) {
+    const Prediction pr = simulate(m, p, sim);
+    for (std::size_t i = 0; i < m.size(); ++i) ss += std::pow(pr.force_N[i] - m.force_N[i], 2);
+    n += m.size();
+  }
+  return std::sqrt(ss / static_cast<double>(n));
+}
+
+std::vector<std::vector<double>> extension_starts(const ModelSpec& spec,
+                                                  const std::vector<double>& base,
+                                                  const DataScales& s) {
+  std::vector<std::vector<double>> out;
+  const double tau1 = (base[1] + base[2]) / base[0];
+  auto with = [&](std::initializer_list<double> extra) {
+    std::vector<double> v(base.begin(), base.begin() + 3);
+    v.insert(v.end(), extra);
+    out.push_back(v);
+  };
+  switch (spec.extension) {
+    case Extension::kNone:
+      out.push_back({base[0], base[1], base[2]});
+      break;
+    case Extension::kSecondRelaxationTime:
+      for (double ratio : {0.1, 10.0}) {
+        for (double share : {0.3, 1.0}) with({share * base[0], share * base[0] * tau1 * ratio});
+      }
+      with({base[0], base[0] * s.duration_s * 3.0});
+      break;
+    case Extension::kForceDependentDamping: {
+      const double stress = s.peak_force_N / 1.0;  // refined below in Pa
+      (void)stress;
+      const double peak_stress = s.modulus_Pa * 0.5;
+      for (double frac : {0.1, 1.0}) {
+        for (double ratio : {3.0, 30.0}) with({frac * peak_stress, ratio});
+      }
+      break;
+    }
+    case Extension::kStrainHardening:
+      for (double h : {0.1, 1.0, 10.0}) with({h});
+      break;
+    case Extension::kSensorLag:
+      for (double f : {0.003, 0.03, 0.3}) with({std::max(f * tau1, 2.0 * s.min_gap_s)});
+      break;
+    case Extension::kSensorOffset:
+      for (double f : {-0.02, 0.02}) with({f * s.peak_force_N});
+      break;
+  }
+  return out;
+}
+
+FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
+                    std::vector<std::vector<double>> starts, const FitOptions& options) {
+  const DataScales s = data_scales(data);
+  const std::size_t k = spec.params.size();
+  if (starts.empty()) {
+    if (spec.extension == Extension::kNone) {
+      for (double tau_frac : {0.02, 0.2}) {
+        for (double c1_share : {0.1, 0.5}) {
+          const double eta = s.modulus_Pa * tau_frac * s.duration_s;
+          starts.push_back({s.modulus_Pa, c1_share * eta, (1.0 - c1_share) * eta});
+        }
+      }
+    } else {
+      FitOptions base_opt = options;
+      const ModelSpec base_spec = model_spec(Extension::kNone, s);
+      const FitResult base = fit_model(data, base_spec, {}, base_opt);
+      starts = extension_starts(spec, base.values, s);
+    }
+  }
+  const int n_res = residual_count(data, options);
+  FitResult best;
+  best.spec = spec;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<double> best_x;
+  for (const auto& start : starts) {
+    if (start.size() != k) throw Error("fit: start has the wrong number of parameters");
+    std::vector<double> x(k);
+    for (std::size_t i = 0; i < k; ++i) x[i] = clamp_into(spec.params[i], start[i]);
+    ceres::Problem problem;
+    auto* cost = new ceres::DynamicNumericDiffCostFunction<ColumnResiduals, ceres::CENTRAL>(
+        new ColumnResiduals{&data, &spec, &options});
+    cost->AddParameterBlock(static_cast<int>(k));
+    cost->SetNumResiduals(n_res);
+    problem.AddResidualBlock(cost, nullptr, x.data());
+    for (std::size_t i = 0; i < k; ++i) {
+      problem.SetParameterLowerBound(x.data(), static_cast<int>(i),
+                                     to_internal(spec.params[i], spec.params[i].lower));
+      problem.SetParameterUpperBound(x.data(), static_cast<int>(i),
+                                     to_internal(spec.params[i], spec.params[i].upper));
+    }
+    ceres::Solver::Options so;
+    so.minimizer_type = ceres::TRUST_REGION;
+    so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    so.linear_solver_type = ceres::DENSE_QR;
+    so.max_num_iterations = options.max_iterations;
+    so.function_tolerance = 1e-9;
+    so.parameter_tolerance = 1e-9;
+    so.logging_type = ceres::SILENT;
+    so.minimizer_progress_to_stdout = false;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    ++best.starts;
+    best.iterations += static_cast<int>(summary.iterations.size());
+    if (summary.IsSolutionUsable() && summary.final_cost < best_cost) {
+      best_cost = summary.final_cost;
+      best_x = x;
+    }
+  }
+  if (best_x.empty()) throw Error("fit: no start of model " + spec.name() + " converged");
+
+  best.values.resize(k);
+  for (std::size_t i = 0; i < k; ++i) best.values[i] = to_physical(spec.params[i], best_x[i]);
+
+  // Force residual statistics (the likelihood all models share).
+  const SpecimenParams p = to_params(spec, best.values);
+  best.rss_force = 0.0;
+  best.n_force = 0;
+  for (const auto& m : data) {
+    const Prediction pr = simulate(m, p, options.simulation);
+    double ss = 0.0;
+    for (std::size_t i = 0; i < m.size(); ++i) ss += std::pow(pr.force_N[i] - m.force_N[i], 2);
+    best.rss_force += ss;
+    best.n_force += static_cast<int>(m.size());
+    best.rmse_per_file_N.push_back(std::sqrt(ss / static_cast<double>(m.size())));
+  }
+  best.rmse_force_N = std::sqrt(best.rss_force / best.n_force);
+  best.aic = best.n_force * std::log(best.rss_force / best.n_force) + 2.0 * (k + 1);
+
+  // Covariance from the Jacobian at the optimum: cov = s^2 (J^T J)^-1 over the parameters
+  // that are not at a bound; s^2 = RSS / (n - k).
+  std::vector<int> free_idx;
+  best.estimates.resize(k);
+  for (std::size_t i = 0; i < k; ++i) {
+    const ParamSpec& ps = spec.params[i];
+    ParamEstimate& e = best.estimates[i];
+    e.name = ps.name;
+    e.value = best.values[i];
+    const double lo = to_internal(ps, ps.lower), hi = to_internal(ps, ps.upper);
+    const double tol = kStuckFraction * (hi - lo);
+    if (best_x[i] - lo < tol)
+      e.at_bound = "lower";
+    else if (hi - best_x[i] < tol)
+      e.at_bound = "upper";
+    else
+      free_idx.push_back(static_cast<int>(i));
+  }
+  if (!free_idx.empty()) {
+    std::vector<double> r0(n_res), r1(n_res);
+    Eigen::MatrixXd jac(n_res, free_idx.size());
+    bool ok = true;
+    for (std::size_t c = 0; c < free_idx.size() && ok; ++c) {
+      const int i = free_idx[c];
+      const double hstep = 1e-5 * std::max(1.0, std::abs(best_x[i]));
+      std::vector<double> vp = best.values, vm = best.values;
+      vp[i] = to_physical(spec.params[i], best_x[i] + hstep);
+      vm[i] = to_physical(spec.params[i], best_x[i] - hstep);
+      ok = residuals_of(data, spec, vp, options, r1.data()) &&
+           residuals_of(data, spec, vm, options, r0.data());
+      for (int rI = 0; rI < n_res && ok; ++rI) jac(rI, c) = (r1[rI] - r0[rI]) / (2.0 * hstep);
+    }
+    const double dof = std::max(1.0, static_cast<double>(n_res) - static_cast<double>(k));
+    const double sigma2 = 2.0 * best_cost / dof;  // Ceres cost = RSS / 2
+    if (ok) {
+      const Eigen::MatrixXd jtj = jac.transpose() * jac;
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(jtj, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      const auto& sv = svd.singularValues();
+      // Not identifiable when the information matrix is numerically singular.
+      if (sv.size() > 0 && sv(sv.size() - 1) > 1e-12 * sv(0)) {
+        const Eigen::MatrixXd cov = sigma2 * jtj.inverse();
+        for (std::size_t c = 0; c < free_idx.size(); ++c) {
+          const int i = free_idx[c];
+          const double sd = std::sqrt(std::max(0.0, cov(c, c)));
+          best.estimates[i].ci_low = to_physical(spec.params[i], best_x[i] - kZ95 * sd);
+          best.estimates[i].ci_high = to_physical(spec.params[i], best_x[i] + kZ95 * sd);
+        }
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace rheo::identify

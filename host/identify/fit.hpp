@@ -1,0 +1,85 @@
+// Least-squares identification of the specimen model (specimen.hpp) with Ceres: bounded
+// trust region on log-parameterised parameters, several starts, covariance-based 95 %
+// confidence intervals, parameters stuck at a bound flagged instead of given an interval.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "host/identify/measurement.hpp"
+#include "host/identify/specimen.hpp"
+
+namespace rheo::identify {
+
+// One fitted parameter: physical value, its bounds and whether it is optimised in log space.
+struct ParamSpec {
+  std::string name;  // e.g. "E1_Pa"
+  double lower = 0.0;
+  double upper = 0.0;
+  bool log_scale = true;
+};
+
+// A model to fit: the baseline three-element column plus at most one extension.
+struct ModelSpec {
+  Extension extension = Extension::kNone;
+  std::vector<ParamSpec> params;
+  std::string name() const;  // "three_element" or "three_element+<cause>"
+};
+
+// Data-driven scales used for bounds and starting points.
+struct DataScales {
+  double modulus_Pa = 1.0;  // peak stress / peak strain
+  double duration_s = 1.0;
+  double min_gap_s = 1.0;  // shortest sample spacing
+  double peak_force_N = 1.0;
+};
+DataScales data_scales(const std::vector<Measurement>& data);
+
+ModelSpec model_spec(Extension e, const DataScales& s);
+SpecimenParams to_params(const ModelSpec& spec, const std::vector<double>& values);
+
+struct FitOptions {
+  int max_iterations = 60;
+  double surface_weight_N_per_mm = 1.0;  // residual weight of surface_mm rows, when present
+  bool use_surface = true;
+  SimulationOptions simulation;
+};
+
+struct ParamEstimate {
+  std::string name;
+  double value = 0.0;
+  std::optional<double> ci_low;  // 95 % interval; empty when at a bound or not identifiable
+  std::optional<double> ci_high;
+  std::string at_bound;  // "", "lower" or "upper"
+};
+
+struct FitResult {
+  ModelSpec spec;
+  std::vector<double> values;  // physical parameter values
+  std::vector<ParamEstimate> estimates;
+  double rss_force = 0.0;  // sum of squared force residuals [N^2]
+  int n_force = 0;         // number of force residuals
+  double rmse_force_N = 0.0;
+  double aic = 0.0;  // n ln(rss/n) + 2 (k + 1): Gaussian, noise level estimated
+  int starts = 0;
+  int iterations = 0;
+  std::vector<double> rmse_per_file_N;
+};
+
+// Force RMSE of a parameter set on a set of files.
+double force_rmse(const std::vector<Measurement>& data, const ModelSpec& spec,
+                  const std::vector<double>& values, const SimulationOptions& sim = {});
+
+// Fits `spec` to the data from each start (physical values) and keeps the best. When
+// `starts` is empty, data-driven starts are generated.
+FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
+                    std::vector<std::vector<double>> starts, const FitOptions& options = {});
+
+// Starts for an extension seeded from a fitted baseline (the baseline's values with a
+// small grid over the extra parameters).
+std::vector<std::vector<double>> extension_starts(const ModelSpec& spec,
+                                                  const std::vector<double>& baseline_values,
+                                                  const DataScales& s);
+
+}  // namespace rheo::identify

@@ -1,0 +1,81 @@
+// The specimen model the fits run: the reference model's three-element edge kernel
+// (sim/edge_kernel.hpp, design.md §3) on a coarse mesh of the specimen, driven by a
+// measured plate history, plus the observation side (sensor lag and offset).
+//
+// Coarse mesh: a 1-D column of two particles (bottom fixed on the floor, top touched by the
+// plate) joined by one edge of rest length h (specimen height). Continuum moduli map onto
+// the edge as k = E * A / h and c = eta * A / h (A = top area), so the column's force is
+// stress * area and its strain is the engineering strain of the block. For a linear or
+// homogeneously hardening material a column of n identical edges in series behaves exactly
+// like one edge, so one edge loses nothing in the quasi-static regime.
+//
+// Time update: the particle is massless (the quasi-static limit m -> 0 of the reference
+// Simulator's mass-point update), which removes the inertial stiffness that forces
+// dt ~ 1e-6 s with clay viscosities (design.md §3, stiffness warning). In contact the top
+// particle follows the plate and the edge states (Voigt length d, Maxwell-arm extension m)
+// advance with the trapezoidal rule; out of contact the top particle moves so that the edge
+// tension is zero and the states advance with backward Euler (stiff elastic recovery).
+// Both are A-stable, so no explicit stability bound applies; the step is limited for
+// accuracy to a fraction of the shortest relaxation time instead.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/identify/measurement.hpp"
+#include "sim/model.hpp"
+
+namespace rheo::identify {
+
+// Candidate causes of misfit (design.md §7 vocabulary).
+enum class Extension {
+  kNone,
+  kSecondRelaxationTime,
+  kForceDependentDamping,
+  kStrainHardening,
+  kSensorLag,
+  kSensorOffset,
+};
+
+const std::vector<Extension>& all_extensions();          // every extension except kNone
+std::string cause_name(Extension e);                     // "second_relaxation_time", ...
+Extension extension_from_name(const std::string& name);  // throws rheo::Error when unknown
+
+// Material and sensor parameters of the column in continuum units.
+struct SpecimenParams {
+  double E1 = 0.0;  // Voigt spring modulus [Pa]
+  double c1 = 0.0;  // Voigt damper viscosity [Pa s]
+  double c2 = 0.0;  // series damper viscosity [Pa s] (its low-stress value when nonlinear)
+  double E2 = 0.0;  // parallel Maxwell arm spring [Pa] (0 = no arm)
+  double c3 = 0.0;  // parallel Maxwell arm damper [Pa s]
+  double damping_stress = 0.0;  // [Pa] stress at which the series viscosity reaches c2/ratio
+  double damping_ratio = 1.0;   // c2 / c2_min (1 = linear damper)
+  double hardening = 0.0;       // k_eff = k1 (1 + hardening e^2), e the column strain
+  double lag_s = 0.0;           // first-order load-cell lag [s] (0 = none)
+  double offset_N = 0.0;        // constant load-cell offset [N]
+};
+
+// The coarse rheo::Model of the specimen (two particles, one edge) with these parameters.
+Model coarse_model(const Geometry& g, const SpecimenParams& p);
+std::string coarse_mesh_description(const Geometry& g);
+
+struct SimulationOptions {
+  double max_dt = 0.05;                 // [s] upper bound of the time step
+  double steps_per_time_constant = 10;  // accuracy: dt <= shortest relaxation time / this
+  long max_steps = 400000;              // cap on the total steps (dt grows instead)
+};
+
+struct Prediction {
+  std::vector<double> force_N;     // load-cell reading at each sample time
+  std::vector<double> surface_mm;  // top-surface displacement at each sample time
+  std::vector<bool> contact;       // plate touching the top at each sample time
+};
+
+// Runs the column under the measurement's plate history (linear between samples; the
+// plate starts at 0 at t = 0 and moves linearly to the first sample when t[0] > 0) and
+// returns the predicted readings at the sample times. Throws rheo::Error on non-finite
+// state (numerical trouble) or non-positive parameters.
+Prediction simulate(const Measurement& protocol, const SpecimenParams& params,
+                    const SimulationOptions& options = {});
+
+}  // namespace rheo::identify
