@@ -307,6 +307,7 @@ StepReport Simulator::step(double plate_z) {
 StepReport Simulator::step_sie(double plate_z) {
   compute_forces(state_, force_, ddot_, mdot_, &length_);
   const double dt = options_.dt;
+  const double inv_dt = 1.0 / dt;
   const Vec3 g = model_.gravity;
   const bool floor = model_.floor;
   const bool external = !external_.empty();
@@ -322,6 +323,7 @@ StepReport Simulator::step_sie(double plate_z) {
       v.setZero();
       continue;
     }
+    const double z_start = x.z();
     Vec3 accel = force_[i] / model_.mass[i] + g;
     if (external) accel += external_[i] / model_.mass[i];
     v += dt * accel;
@@ -332,7 +334,9 @@ StepReport Simulator::step_sie(double plate_z) {
     }
     if (flag == kPlate && x.z() > plate_z) {
       x.z() = plate_z;
-      v.z() = std::min(v.z(), 0.0);
+      // The held particle moves with the plate: its velocity must match its position
+      // change, otherwise the edges never see the plate's strain rate (see simulator.hpp).
+      v.z() = std::min(v.z(), (plate_z - z_start) * inv_dt);
       report.plate_force_N += force_[i].z();
       ++report.contacts;
     }
@@ -397,6 +401,7 @@ StepReport Simulator::step_rk4(double plate_z) {
       v.setZero();
       continue;
     }
+    const double z_start = x.z();
     x += w * (velocity(0, i) + 2.0 * velocity(1, i) + 2.0 * velocity(2, i) + velocity(3, i));
     v += w * (accel(0, i) + 2.0 * accel(1, i) + 2.0 * accel(2, i) + accel(3, i));
     if (model_.floor && x.z() < 0.0) {
@@ -405,7 +410,7 @@ StepReport Simulator::step_rk4(double plate_z) {
     }
     if (flag == kPlate && x.z() > plate_z) {
       x.z() = plate_z;
-      v.z() = std::min(v.z(), 0.0);
+      v.z() = std::min(v.z(), (plate_z - z_start) / dt);
       report.plate_force_N += stage_f_[0][i].z();
       ++report.contacts;
     }

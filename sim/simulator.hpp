@@ -49,9 +49,15 @@ double max_stable_dt(const Model& model, Integrator integrator);
 //     each edge's ddot, mdot and current length l.
 //  2. Each particle: fixed -> x = x0, v = 0. Otherwise v += dt*(F_i/m_i + g + F_ext,i/m_i);
 //     x += dt*v; floor (if enabled): if x.z < 0 then x.z = 0, v.z = max(v.z, 0);
-//     if the particle is kPlate and x.z > plate_z then x.z = plate_z, v.z = min(v.z, 0):
-//     it is in contact and plate_force += F_i.z (internal force only; positive = pushes
-//     the plate up = compression). The plate is unilateral: it never pulls.
+//     if the particle is kPlate and x.z > plate_z then x.z = plate_z,
+//     v.z = min(v.z, (plate_z - z_start) / dt) with z_start its height at the start of the
+//     step: it is in contact and plate_force += F_i.z (internal force only; positive =
+//     pushes the plate up = compression). The plate is unilateral: it never pulls.
+//     Why (plate_z - z_start)/dt and not 0: a held particle moves with the plate, and the
+//     three-element edge feels a length change only through ldot (its force depends on l
+//     through ldot and the clamp alone). With v.z = min(v.z, 0) the plate would teleport
+//     the particles at zero velocity, the series dampers would absorb the whole push at no
+//     force and the plate force would stay zero. During a hold the bound is 0 again.
 //  3. Each edge: d = clamp(d + dt*ddot, a_min*l, a_max*l) with l from step 1; m += dt*mdot.
 // The caller gives the plate height: plate_z = model.height - plate_mm / 1000.
 // RK4 integrates (x, v, d, m) with the classical four stages (fixed particles frozen),
