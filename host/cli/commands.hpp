@@ -6,5 +6,6 @@
 namespace rheo::cli {
 
 void register_simulate(CLI::App& app);
+void register_scenarios(CLI::App& app);
 
 }  // namespace rheo::cli

@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
       "simulator, a bit-true fixed-point model and an RTL core in Verilator."};
   app.require_subcommand(1);
   rheo::cli::register_simulate(app);
+  rheo::cli::register_scenarios(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,286 @@
+// `rheo simulate`: runs a scenario on the double-precision reference model and writes the
+// plate force history (design.md §7 CSV), a VTK time series and a PNG plot into --out.
+// Everything is staged in a temporary directory and moved into place only after the
+// whole run succeeded, so a failure (bad input, unstable dt, non-finite state, Ctrl-C)
+// never leaves files that look like results.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "host/cli/commands.hpp"
+#include "host/output/force_csv.hpp"
+#include "host/output/gnuplot_plot.hpp"
+#include "host/output/staged_directory.hpp"
+#include "host/output/vtk_series.hpp"
+#include "sim/error.hpp"
+#include "sim/scenario.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct SimulateArgs {
+  std::string scenario;
+  std::string out;
+  std::optional<double> duration_s;
+  std::optional<long long> steps;
+  bool quiet = false;
+  bool force = false;
+  bool no_plot = false;
+};
+
+// Ctrl-C during a long run: finish the current step, then fail like any other error so
+// that the staged output is removed.
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_interrupt(int) { g_interrupted = 1; }
+
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    g_interrupted = 0;
+    old_int_ = std::signal(SIGINT, on_interrupt);
+    old_term_ = std::signal(SIGTERM, on_interrupt);
+  }
+  ~InterruptGuard() {
+    std::signal(SIGINT, old_int_);
+    std::signal(SIGTERM, old_term_);
+  }
+
+ private:
+  void (*old_int_)(int);
+  void (*old_term_)(int);
+};
+
+// Progress on stderr, only when it is a terminal: steps/s and ETA, redrawn at most
+// kRedrawsPerSecond times a second so that printing never costs noticeable time.
+class Progress {
+ public:
+  Progress(long long total, bool enabled) : total_(total), enabled_(enabled) {
+    start_ = last_ = Clock::now();
+  }
+  void update(long long done) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    if (now - last_ < std::chrono::milliseconds(1000 / kRedrawsPerSecond)) return;
+    last_ = now;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    const double rate = done / std::max(elapsed, 1e-9);
+    const double eta = (total_ - done) / std::max(rate, 1e-9);
+    std::fprintf(stderr, "\r  step %lld / %lld (%3.0f %%)  %.0f steps/s  ETA %.0f s   ", done,
+                 total_, 100.0 * done / total_, rate, eta);
+    std::fflush(stderr);
+    drawn_ = true;
+  }
+  void finish() {
+    if (drawn_) std::fprintf(stderr, "\r%80s\r", "");
+  }
+
+ private:
+  static constexpr int kRedrawsPerSecond = 4;
+  long long total_;
+  bool enabled_;
+  bool drawn_ = false;
+  Clock::time_point start_, last_;
+};
+
+// The particles whose downward displacement is "the top surface at its centre" (§7):
+// the top layer's particles closest to the centre of the top face (one in an odd grid,
+// two or four in an even one; the mean is reported).
+std::vector<int> top_centre_particles(const Model& model) {
+  double top = -1e300;
+  for (const Vec3& p : model.x0) top = std::max(top, p.z());
+  const double tolerance = 1e-9 * std::max(model.size, 1e-12);
+  double x_min = 1e300, x_max = -1e300, y_min = 1e300, y_max = -1e300;
+  std::vector<int> layer;
+  for (int i = 0; i < model.num_particles(); ++i) {
+    const Vec3& p = model.x0[i];
+    if (p.z() < top - tolerance) continue;
+    layer.push_back(i);
+    x_min = std::min(x_min, p.x());
+    x_max = std::max(x_max, p.x());
+    y_min = std::min(y_min, p.y());
+    y_max = std::max(y_max, p.y());
+  }
+  const double cx = 0.5 * (x_min + x_max), cy = 0.5 * (y_min + y_max);
+  auto distance = [&](int i) { return std::hypot(model.x0[i].x() - cx, model.x0[i].y() - cy); };
+  double best = 1e300;
+  for (int i : layer) best = std::min(best, distance(i));
+  std::vector<int> centre;
+  for (int i : layer) {
+    if (distance(i) <= best + tolerance) centre.push_back(i);
+  }
+  return centre;
+}
+
+double surface_displacement_mm(const Model& model, const State& state,
+                               const std::vector<int>& particles) {
+  double sum = 0.0;
+  for (int i : particles) sum += model.x0[i].z() - state.x[i].z();
+  return 1e3 * sum / particles.size();
+}
+
+std::string format(double x, const char* fmt = "%.6g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, x);
+  return buf;
+}
+
+const char* integrator_name(Integrator i) {
+  return i == Integrator::kRK4 ? "rk4" : "semi_implicit_euler";
+}
+
+// Decimals of time_s that keep successive rows distinct and readable.
+int time_decimals(double row_interval_s) {
+  return std::clamp(static_cast<int>(std::ceil(-std::log10(row_interval_s) - 1e-9)) + 1, 3, 9);
+}
+
+void run_simulate(const SimulateArgs& args) {
+  const Scenario scenario = load_scenario(args.scenario);
+  const Model model = scenario.build_model();
+  const double dt = scenario.options.dt;
+  long long steps = scenario.default_steps();
+  if (args.steps) steps = *args.steps;
+  if (args.duration_s) steps = static_cast<long long>(std::ceil(*args.duration_s / dt - 1e-9));
+  if (steps < 1) throw Error("nothing to simulate: --steps/--duration give no step");
+
+  // The simulator refuses an unstable dt before anything is created on disk.
+  Simulator sim(model, scenario.options);
+  output::StagedDirectory out(args.out, args.force);
+  const std::string dir = out.path();
+
+  const double run_s = steps * dt;
+  const double csv_interval =
+      scenario.output.csv_interval_s > 0.0 ? scenario.output.csv_interval_s : dt;
+  const double vtk_interval =
+      scenario.output.vtk_interval_s > 0.0 ? scenario.output.vtk_interval_s : run_s / 100.0;
+  const std::vector<int> centre = top_centre_particles(model);
+
+  const output::Specimen specimen{scenario.block.sz * 1e3, scenario.block.sx * 1e3,
+                                  scenario.block.sy * 1e3};
+  const EdgeMaterial& mat = scenario.block.material;
+  const std::vector<std::pair<std::string, std::string>> extra = {
+      {"source", "rheo simulate (double-precision reference model)"},
+      {"scenario", scenario.name},
+      {"integrator", integrator_name(scenario.options.integrator)},
+      {"dt_s", format(dt)},
+      {"mass_scale", format(scenario.block.mass_scale)},
+      {"material", "three_element k1=" + format(mat.k1) + " Pa, c1=" + format(mat.c1) +
+                       " Pa s, c2=" + format(mat.c2) + " Pa s"},
+      {"particles", std::to_string(model.num_particles())},
+      {"edges", std::to_string(model.num_edges())},
+  };
+  output::ForceCsvWriter csv(dir + "/force.csv", specimen, extra, time_decimals(csv_interval));
+  output::VtkSeriesWriter vtk(dir, "vtk", "mesh.pvd");
+
+  // The first row and frame: the object at rest before the plate moves.
+  csv.write_row(0.0, scenario.protocol.displacement_mm(0.0), 0.0,
+                surface_displacement_mm(model, sim.state(), centre));
+  vtk.write_frame(model, sim.state());
+
+  InterruptGuard interrupt_guard;
+  Progress progress(steps, !args.quiet && isatty(STDERR_FILENO));
+  // Row and frame times are multiples of their intervals; comparing with a small slack
+  // keeps rounding in i * dt from skipping one.
+  const double slack = 1e-9 * dt;
+  double next_csv = csv_interval, next_vtk = vtk_interval;
+  double peak_force = 0.0, peak_time = 0.0;
+  const auto start = Clock::now();
+  for (long long i = 1; i <= steps; ++i) {
+    // Time from the step count, not by summing dt, so long runs do not drift.
+    const double t = i * dt;
+    const double plate_mm = scenario.protocol.displacement_mm(t);
+    const StepReport report = sim.step(model.height - plate_mm * 1e-3);
+    if (!std::isfinite(report.plate_force_N)) {
+      throw Error("non-finite plate force at step " + std::to_string(i) + " (t = " + format(t) +
+                  " s): the run is numerically unstable");
+    }
+    if (report.plate_force_N > peak_force) {
+      peak_force = report.plate_force_N;
+      peak_time = t;
+    }
+    if (t >= next_csv - slack || i == steps) {
+      csv.write_row(t, plate_mm, report.plate_force_N,
+                    surface_displacement_mm(model, sim.state(), centre));
+      while (next_csv <= t + slack) next_csv += csv_interval;
+    }
+    if (t >= next_vtk - slack || i == steps) {
+      vtk.write_frame(model, sim.state());
+      while (next_vtk <= t + slack) next_vtk += vtk_interval;
+    }
+    if (g_interrupted) throw Error("interrupted at step " + std::to_string(i) + "; no output kept");
+    progress.update(i);
+  }
+  progress.finish();
+  const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  csv.close();
+  vtk.close();
+  const double final_surface_mm = surface_displacement_mm(model, sim.state(), centre);
+
+  if (!args.no_plot) {
+    output::plot_force_csv({dir, "force.csv", csv.header_lines(), "plot.gp", "plot.png",
+                            "rheo simulate: " + scenario.name});
+  }
+  out.commit();
+
+  const std::string target = out.target();
+  std::cout << "rheo simulate: " << scenario.name << ", " << model.num_particles() << " particles, "
+            << model.num_edges() << " edges, " << steps << " steps of " << format(dt) << " s ("
+            << format(run_s) << " s simulated) in " << format(wall_s, "%.2f") << " s ("
+            << format(steps / std::max(wall_s, 1e-9), "%.0f") << " steps/s)\n"
+            << "  peak force " << format(peak_force) << " N at t = " << format(peak_time)
+            << " s; top surface at the end " << format(final_surface_mm, "%.4f") << " mm down\n"
+            << "  force CSV:  " << target << "/force.csv\n"
+            << "  VTK series: " << target << "/mesh.pvd (" << vtk.frames() << " frames in "
+            << target << "/vtk/, open the .pvd in ParaView)\n";
+  if (!args.no_plot) {
+    std::cout << "  plot:       " << target << "/plot.png (script " << target << "/plot.gp)\n";
+  }
+}
+
+}  // namespace
+
+void register_simulate(CLI::App& app) {
+  auto args = std::make_shared<SimulateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "simulate",
+      "Run a scenario (mesh, material, plate protocol) on the double-precision reference model "
+      "and write into --out: force.csv (plate force history, design.md section 7 columns "
+      "time_s,plate_mm,force_N,surface_mm), mesh.pvd + vtk/*.vtu (VTK time series for "
+      "ParaView: particles, edges, velocity, edge tension) and plot.png (force and "
+      "displacements against time, drawn by gnuplot). Results are staged in a temporary "
+      "directory and appear in --out only when the whole run succeeded.");
+  cmd->add_option("--scenario", args->scenario,
+                  "built-in scenario name (see `rheo scenarios`) or path to a JSON scenario file")
+      ->required();
+  cmd->add_option("--out", args->out,
+                  "output directory; must not exist or be empty unless --force is given")
+      ->required();
+  auto* duration = cmd->add_option("--duration", args->duration_s,
+                                   "simulated time [s] (default: the scenario's duration)");
+  duration->check(CLI::PositiveNumber);
+  auto* steps =
+      cmd->add_option("--steps", args->steps, "number of time steps (default: duration / dt)");
+  steps->check(CLI::PositiveNumber);
+  duration->excludes(steps);
+  cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
+  cmd->add_flag("--force,-f", args->force,
+                "replace the content of an existing non-empty --out directory (only after the "
+                "run succeeded)");
+  cmd->add_flag("--no-plot", args->no_plot, "do not draw plot.png (no gnuplot needed)");
+  cmd->callback([args]() { run_simulate(*args); });
+}
+
+}  // namespace rheo::cli

@@ -1,0 +1,335 @@
+// Scenario loading: a strict JSON reader (every key known, every value checked) and the
+// built-in scenarios, which are JSON files themselves (sim/scenarios/) and go through the
+// same reader, so a built-in can never hold something a user file could not.
+#include "sim/scenario.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "sim/error.hpp"
+#include "sim/scenarios/builtin.hpp"
+
+namespace rheo {
+namespace {
+
+using nlohmann::json;
+
+// Where a value sits: the file it came from and its JSON pointer. Every error message
+// starts with both so that the user can go straight to the offending field.
+class Field {
+ public:
+  Field(const std::string& file, const json& value, std::string pointer)
+      : file_(file), value_(value), pointer_(std::move(pointer)) {}
+
+  const json& value() const { return value_; }
+  const std::string& pointer() const { return pointer_; }
+  bool has(const char* key) const { return value_.contains(key); }
+
+  [[noreturn]] void fail(const std::string& expected) const {
+    std::string got = value_.dump();
+    if (got.size() > 60) got = got.substr(0, 57) + "...";
+    throw Error(file_ + ": " + (pointer_.empty() ? "/" : pointer_) + ": expected " + expected +
+                ", got " + got);
+  }
+
+  // The member `key` of this object; a missing required member is an error naming it.
+  Field operator[](const char* key) const {
+    if (!value_.contains(key)) {
+      throw Error(file_ + ": " + pointer_ + "/" + key + ": missing (required field)");
+    }
+    return Field(file_, value_.at(key), pointer_ + "/" + key);
+  }
+
+  // Checks that this is an object whose keys are all in `allowed` (typos are the most
+  // common mistake in hand-written scenario files, so unknown keys are never ignored).
+  void expect_object(std::initializer_list<const char*> allowed) const {
+    if (!value_.is_object()) fail("an object");
+    const std::set<std::string> known(allowed.begin(), allowed.end());
+    for (auto it = value_.begin(); it != value_.end(); ++it) {
+      if (!known.contains(it.key())) {
+        std::string list;
+        for (const char* k : allowed) list += std::string(list.empty() ? "" : ", ") + k;
+        throw Error(file_ + ": " + pointer_ + "/" + it.key() +
+                    ": unknown key (expected one of: " + list + ")");
+      }
+    }
+  }
+
+  double number(const std::string& what) const {
+    if (!value_.is_number()) fail(what);
+    const double x = value_.get<double>();
+    if (!std::isfinite(x)) fail(what);
+    return x;
+  }
+  double positive(const std::string& unit) const {
+    const std::string what = "a positive finite number" + unit;
+    const double x = number(what);
+    if (!(x > 0.0)) fail(what);
+    return x;
+  }
+  double non_negative(const std::string& unit) const {
+    const std::string what = "a non-negative finite number" + unit;
+    const double x = number(what);
+    if (!(x >= 0.0)) fail(what);
+    return x;
+  }
+  int integer_in(int lo, int hi) const {
+    const std::string what = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+    if (!value_.is_number_integer()) fail(what);
+    const long long x = value_.get<long long>();
+    if (x < lo || x > hi) fail(what);
+    return static_cast<int>(x);
+  }
+  bool boolean() const {
+    if (!value_.is_boolean()) fail("true or false");
+    return value_.get<bool>();
+  }
+  std::string string() const {
+    if (!value_.is_string()) fail("a string");
+    return value_.get<std::string>();
+  }
+  std::string one_of(std::initializer_list<const char*> choices) const {
+    std::string list;
+    for (const char* c : choices) list += std::string(list.empty() ? "" : " or ") + '"' + c + '"';
+    if (!value_.is_string()) fail(list);
+    const std::string s = value_.get<std::string>();
+    for (const char* c : choices) {
+      if (s == c) return s;
+    }
+    fail(list);
+  }
+  // Element i of this array.
+  Field at(std::size_t i) const {
+    return Field(file_, value_.at(i), pointer_ + "/" + std::to_string(i));
+  }
+  std::vector<double> number_array(const std::string& what) const {
+    if (!value_.is_array() || value_.empty()) fail("a non-empty array of " + what);
+    std::vector<double> out;
+    for (std::size_t i = 0; i < value_.size(); ++i) {
+      out.push_back(at(i).number(what));
+    }
+    return out;
+  }
+
+ private:
+  const std::string& file_;
+  const json& value_;
+  std::string pointer_;
+};
+
+// Particle counts per axis. Large enough for the big hardware model (15x15x16) and the
+// tests; small enough that a typo (e.g. 1000) is caught instead of exhausting memory.
+constexpr int kMaxParticlesPerAxis = 200;
+
+// "line L, column C" of a byte offset, for malformed-JSON messages.
+std::string line_and_column(const std::string& text, std::size_t byte) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+void read_mesh(const Field& mesh, BlockSpec& block) {
+  mesh.expect_object(
+      {"dim", "structure", "nx", "ny", "nz", "sx_m", "sy_m", "sz_m", "fix_bottom", "plate_top"});
+  block.dim = mesh["dim"].integer_in(2, 3);
+  const std::string structure = mesh["structure"].one_of({"truss", "lattice"});
+  block.structure = structure == "truss" ? Structure::kTruss : Structure::kLattice;
+  block.nx = mesh["nx"].integer_in(2, kMaxParticlesPerAxis);
+  block.nz = mesh["nz"].integer_in(2, kMaxParticlesPerAxis);
+  block.sx = mesh["sx_m"].positive(" [m]");
+  // In 2D the block lies in the x-z plane and sy is its depth (mass, stiffness per depth).
+  block.sy = mesh["sy_m"].positive(" [m]");
+  block.sz = mesh["sz_m"].positive(" [m]");
+  if (block.dim == 3) {
+    block.ny = mesh["ny"].integer_in(2, kMaxParticlesPerAxis);
+  } else {
+    // A 2D block has one layer in y: a count given anyway is a sign of a mixed-up file.
+    if (mesh.has("ny")) mesh["ny"].fail("no \"ny\" in a 2D mesh (dim 2: one layer in y)");
+    block.ny = 1;
+  }
+  if (mesh.has("fix_bottom")) block.fix_bottom = mesh["fix_bottom"].boolean();
+  if (mesh.has("plate_top")) block.plate_top = mesh["plate_top"].boolean();
+}
+
+void read_material(const Field& material, BlockSpec& block) {
+  material.expect_object(
+      {"density", "k1", "c1", "c2", "a_min", "a_max", "nonlinear_damper", "hardening", "k2", "c3"});
+  EdgeMaterial& m = block.material;
+  block.density = material["density"].positive(" [kg/m^3]");
+  m.k1 = material["k1"].non_negative(" [Pa]");
+  m.c1 = material["c1"].non_negative(" [Pa s]");
+  const Field c2 = material["c2"];
+  m.c2 = c2.non_negative(" [Pa s]");
+  // ddot = (c2 ldot - k1 (d - L)) / (c1 + c2) needs at least one damper.
+  if (!(m.c1 + m.c2 > 0.0)) c2.fail("c1 + c2 > 0 (the Voigt length rate divides by it)");
+  if (material.has("a_min")) m.a_min = material["a_min"].non_negative(" (ratio d/l)");
+  if (material.has("a_max")) {
+    const Field a_max = material["a_max"];
+    m.a_max = a_max.positive(" (ratio d/l)");
+    if (m.a_max < m.a_min) a_max.fail("a ratio >= a_min (" + std::to_string(m.a_min) + ")");
+  }
+  if (material.has("nonlinear_damper")) {
+    const Field nl = material["nonlinear_damper"];
+    nl.expect_object({"f1", "f2", "c2_min"});
+    m.nonlinear = true;
+    m.f1 = nl["f1"].non_negative(" [Pa] (stress where c2 starts to fall)");
+    const Field f2 = nl["f2"];
+    m.f2 = f2.positive(" [Pa]");
+    if (!(m.f2 > m.f1)) f2.fail("a stress above f1 (" + std::to_string(m.f1) + " Pa)");
+    const Field c2_min = nl["c2_min"];
+    m.c2_min = c2_min.positive(" [Pa s]");
+    if (m.c2_min > m.c2) c2_min.fail("a viscosity <= c2 (" + std::to_string(m.c2) + " Pa s)");
+  }
+  if (material.has("hardening")) m.hardening = material["hardening"].non_negative(" (1/strain^2)");
+  if (material.has("k2") != material.has("c3")) {
+    (material.has("k2") ? material["k2"] : material["c3"])
+        .fail("k2 and c3 together (the parallel Maxwell arm needs both)");
+  }
+  if (material.has("k2")) {
+    m.k2 = material["k2"].non_negative(" [Pa]");
+    m.c3 = material["c3"].non_negative(" [Pa s]");
+  }
+}
+
+void read_integrator(const Field& integrator, Scenario& s) {
+  integrator.expect_object({"method", "dt_s", "mass_scale", "check_stability"});
+  const std::string method = integrator["method"].one_of({"semi_implicit_euler", "rk4"});
+  s.options.integrator = method == "rk4" ? Integrator::kRK4 : Integrator::kSemiImplicitEuler;
+  s.options.dt = integrator["dt_s"].positive(" [s]");
+  if (integrator.has("mass_scale")) s.block.mass_scale = integrator["mass_scale"].positive("");
+  if (integrator.has("check_stability")) {
+    s.options.check_stability = integrator["check_stability"].boolean();
+  }
+}
+
+void read_protocol(const Field& protocol, Scenario& s) {
+  if (!protocol.value().is_object()) protocol.fail("an object");
+  const std::string type = protocol["type"].one_of({"push_hold_release", "table"});
+  const double height_mm = s.block.sz * 1e3;
+  if (type == "push_hold_release") {
+    protocol.expect_object({"type", "depth_mm", "speed_mm_s", "hold_s", "after_s"});
+    const Field depth = protocol["depth_mm"];
+    const double depth_mm = depth.positive(" [mm]");
+    if (depth_mm >= height_mm) {
+      depth.fail("a depth below the block height (" + std::to_string(height_mm) + " mm)");
+    }
+    s.protocol = PlateProtocol::push_hold_release(
+        depth_mm, protocol["speed_mm_s"].positive(" [mm/s]"),
+        protocol["hold_s"].non_negative(" [s]"), protocol["after_s"].non_negative(" [s]"));
+    return;
+  }
+  protocol.expect_object({"type", "t_s", "plate_mm"});
+  const Field t_field = protocol["t_s"];
+  const Field mm_field = protocol["plate_mm"];
+  s.protocol.t = t_field.number_array("times [s]");
+  s.protocol.plate_mm = mm_field.number_array("plate displacements [mm]");
+  if (s.protocol.t.size() != s.protocol.plate_mm.size()) {
+    mm_field.fail("as many entries as /protocol/t_s (" + std::to_string(s.protocol.t.size()) + ")");
+  }
+  if (s.protocol.t.front() != 0.0) t_field.at(0).fail("0 (a protocol starts at t = 0)");
+  for (std::size_t i = 1; i < s.protocol.t.size(); ++i) {
+    if (!(s.protocol.t[i] > s.protocol.t[i - 1])) {
+      t_field.at(i).fail("strictly increasing times (a time after " +
+                         std::to_string(s.protocol.t[i - 1]) + " s)");
+    }
+  }
+  for (std::size_t i = 0; i < s.protocol.plate_mm.size(); ++i) {
+    if (s.protocol.plate_mm[i] >= height_mm) {
+      mm_field.at(i).fail("a plate displacement below the block height (" +
+                          std::to_string(height_mm) + " mm)");
+    }
+  }
+}
+
+void read_output(const Field& output, Scenario& s) {
+  output.expect_object({"vtk_interval_s", "csv_interval_s"});
+  if (output.has("vtk_interval_s")) {
+    s.output.vtk_interval_s = output["vtk_interval_s"].non_negative(" [s] (0: about 100 frames)");
+  }
+  if (output.has("csv_interval_s")) {
+    s.output.csv_interval_s = output["csv_interval_s"].non_negative(" [s] (0: every step)");
+  }
+}
+
+Scenario parse_scenario(const std::string& text, const std::string& file) {
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // nlohmann's message carries the byte offset; users want line and column.
+    std::string detail = e.what();
+    const std::size_t colon = detail.rfind(": ");
+    if (colon != std::string::npos) detail = detail.substr(colon + 2);
+    throw Error(file + ":" + line_and_column(text, e.byte) + ": malformed JSON: " + detail);
+  }
+  const Field top(file, root, "");
+  top.expect_object({"name", "description", "mesh", "material", "integrator", "protocol", "output",
+                     "duration_s"});
+  Scenario s;
+  s.name = top["name"].string();
+  if (top.has("description")) s.description = top["description"].string();
+  read_mesh(top["mesh"], s.block);
+  read_material(top["material"], s.block);
+  read_integrator(top["integrator"], s);
+  read_protocol(top["protocol"], s);
+  if (top.has("output")) read_output(top["output"], s);
+  if (top.has("duration_s")) s.duration_s = top["duration_s"].positive(" [s]");
+  return s;
+}
+
+}  // namespace
+
+Model Scenario::build_model() const {
+  Model model = make_block(block);
+  // Mass scaling slows the inertia (m/c) down to where explicit steps are affordable, but
+  // the weight of the object must stay physical: gravity is divided by the same factor,
+  // so that m * g, and with it the load on the plate, is what the real object has.
+  model.gravity /= block.mass_scale;
+  validate(model);
+  return model;
+}
+
+int Scenario::default_steps() const {
+  const double duration = duration_s > 0.0 ? duration_s : protocol.duration();
+  const double steps = std::ceil(duration / options.dt - 1e-9);
+  if (!(steps >= 1.0) || steps > std::numeric_limits<int>::max()) {
+    throw Error("scenario " + name + ": duration " + std::to_string(duration) + " s with dt " +
+                std::to_string(options.dt) + " s gives no valid step count");
+  }
+  return static_cast<int>(steps);
+}
+
+std::vector<std::string> builtin_scenarios() {
+  std::vector<std::string> names;
+  for (const BuiltinScenarioText& t : builtin_scenario_texts()) names.push_back(t.name);
+  return names;
+}
+
+Scenario load_scenario(const std::string& name_or_path) {
+  if (const std::string* text = find_builtin_scenario_text(name_or_path)) {
+    return parse_scenario(*text, "built-in scenario " + name_or_path);
+  }
+  std::ifstream in(name_or_path, std::ios::binary);
+  if (!in) {
+    std::string known;
+    for (const std::string& n : builtin_scenarios()) known += (known.empty() ? "" : ", ") + n;
+    throw Error(name_or_path + ": no such built-in scenario (" + known +
+                ") and no readable scenario file");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_scenario(text.str(), name_or_path);
+}
+
+}  // namespace rheo
