@@ -6,6 +6,9 @@
 namespace rheo::cli {
 
 void register_simulate(CLI::App& app);
+void register_fit(CLI::App& app);
+void register_diagnose(CLI::App& app);
 void register_scenarios(CLI::App& app);
+void register_synth(CLI::App& app);
 
 }  // namespace rheo::cli

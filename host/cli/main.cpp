@@ -11,7 +11,10 @@ int main(int argc, char** argv) {
       "simulator, a bit-true fixed-point model and an RTL core in Verilator."};
   app.require_subcommand(1);
   rheo::cli::register_simulate(app);
+  rheo::cli::register_fit(app);
+  rheo::cli::register_diagnose(app);
   rheo::cli::register_scenarios(app);
+  rheo::cli::register_synth(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

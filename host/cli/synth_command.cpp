@@ -1,0 +1,324 @@
+// `rheo synth [--lanes L] --out DIR`: Virtex-II synthesis of the TEM, the MPM and the core
+// with Yosys, a resource and timing estimate, a constraints file for the vendor tools and
+// the performance model (time per step on one XC2V6000 for block5 and block15).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "host/cli/commands.hpp"
+#include "host/synth/delay_model.hpp"
+#include "host/synth/performance_model.hpp"
+#include "host/synth/yosys_runner.hpp"
+#include "sim/error.hpp"
+#include "sim/scenario.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using synth::Resources;
+
+// The 2003 design (seed 000, Tables 1 and 2) for the side-by-side table.
+constexpr double kPaperFpgaStepMs = 0.20;
+constexpr double kPaperPcStepMs = 3.65;
+constexpr int kPaperTemSlices = 4144, kPaperTemMults = 16;
+constexpr int kPaperMpmSlices = 640, kPaperMpmMults = 9;
+// Targets of issue 5.
+constexpr double kTargetBlock15Us = 100.0;
+constexpr double kTargetBlock5Us = 5.0;
+constexpr double kTargetPeakFraction = 0.5;
+// The reference model is timed for at least this long per scenario, so the figure is
+// not dominated by timer resolution or a cold cache.
+constexpr double kReferenceTimingSeconds = 1.0;
+
+struct Options {
+  int lanes = 2;
+  std::string out;
+  std::vector<std::string> designs{"tem", "mpm", "core"};
+  std::vector<std::string> core_params;
+  std::string core_top = "rheo_core";
+  bool time_reference = true;
+};
+
+json resources_json(const Resources& r) {
+  const synth::Utilisation u = synth::utilisation(r);
+  json j = {{"lut4", r.lut4},
+            {"flip_flops", r.ff},
+            {"mult18x18", r.mult18},
+            {"ramb16", r.ramb16},
+            {"carry_muxcy", r.carry},
+            {"estimated_slices", u.slices},
+            {"percent_of_xc2v6000",
+             {{"slices", u.slices_pct}, {"mult18x18", u.mult18_pct}, {"ramb16", u.ramb16_pct}}},
+            {"cells_by_type", r.cells_by_type}};
+  return j;
+}
+
+json result_json(const synth::SynthResult& s) {
+  return {{"top", s.spec.top},
+          {"sources", s.spec.sources},
+          {"parameters", s.spec.params},
+          {"yosys_seconds", s.yosys_seconds},
+          {"resources", resources_json(s.resources)},
+          {"longest_path",
+           {{"cells", s.path.length},
+            {"hops_by_type", s.path.hops_by_type},
+            {"logic_ns", s.timing.logic_ns},
+            {"routing_ns", s.timing.routing_ns},
+            {"period_ns", s.timing.period_ns},
+            {"limited_by", s.timing.limited_by}}},
+          {"estimated_fmax_mhz", s.timing.fmax_mhz},
+          {"edif", s.edif.filename().string()}};
+}
+
+Resources sum(const Resources& a, const Resources& b) {
+  Resources r;
+  r.lut4 = a.lut4 + b.lut4;
+  r.ff = a.ff + b.ff;
+  r.mult18 = a.mult18 + b.mult18;
+  r.ramb16 = a.ramb16 + b.ramb16;
+  r.carry = a.carry + b.carry;
+  return r;
+}
+
+// Wall time per step of the double reference model (semi-implicit Euler as configured by
+// the scenario), the plate following the scenario's protocol.
+double reference_seconds_per_step(const Scenario& scenario) {
+  Simulator sim(scenario.build_model(), scenario.options);
+  const double height = sim.model().height;
+  const double dt = scenario.options.dt;
+  long long steps = 0;
+  const auto start = std::chrono::steady_clock::now();
+  double elapsed = 0.0;
+  do {
+    for (int i = 0; i < 10; ++i, ++steps) {
+      sim.step(height - scenario.protocol.displacement_mm((steps + 1) * dt) * 1e-3);
+    }
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  } while (elapsed < kReferenceTimingSeconds);
+  return elapsed / static_cast<double>(steps);
+}
+
+void write_ucf(const fs::path& file, double period_ns) {
+  std::ofstream ucf(file);
+  if (!ucf) throw Error(file.string() + ": cannot write");
+  ucf << "# Clock constraint for the rheo core on a Virtex-II XC2V6000 (-6), from `rheo synth`.\n"
+      << "# The period is the estimate of the Yosys-based delay model (docs/synthesis.md),\n"
+      << "# not a vendor timing result: run ISE's trce on the placed design to confirm it.\n"
+      << "NET \"clk_i\" TNM_NET = \"clk_i\";\n"
+      << "TIMESPEC \"TS_clk_i\" = PERIOD \"clk_i\" " << std::fixed << std::setprecision(2)
+      << period_ns << " ns HIGH 50%;\n";
+}
+
+void run(const Options& opt) {
+  if (opt.lanes < 1) throw Error("synth: --lanes must be >= 1, got " + std::to_string(opt.lanes));
+  const fs::path out = opt.out;
+  fs::create_directories(out);
+  const synth::YosysSetup setup = synth::default_setup();
+
+  std::map<std::string, synth::SynthResult> results;
+  json designs = json::object();
+  for (const std::string& label : opt.designs) {
+    synth::DesignSpec spec;
+    spec.label = label;
+    if (label == "tem") {
+      spec.top = "rheo_tem";
+      spec.sources = {"rheo_fixed_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+    } else if (label == "mpm") {
+      spec.top = "rheo_mpm";
+      spec.sources = {"rheo_fixed_pkg.sv", "rheo_mpm.sv"};
+    } else if (label == "core") {
+      spec.top = opt.core_top;
+      spec.sources = {"rheo_fixed_pkg.sv"};
+      std::vector<std::string> others;
+      for (const auto& entry : fs::directory_iterator(setup.rtl_dir)) {
+        const std::string name = entry.path().filename().string();
+        if (entry.path().extension() == ".sv" && name != "rheo_fixed_pkg.sv") {
+          others.push_back(name);
+        }
+      }
+      std::sort(others.begin(), others.end());
+      spec.sources.insert(spec.sources.end(), others.begin(), others.end());
+      spec.params = {"Lanes=" + std::to_string(opt.lanes)};
+      spec.params.insert(spec.params.end(), opt.core_params.begin(), opt.core_params.end());
+    } else {
+      throw Error("synth: unknown design '" + label + "'; expected tem, mpm or core");
+    }
+    std::cout << "synth: " << label << " (" << spec.top << ") ..." << std::flush;
+    try {
+      synth::SynthResult r = synth::run_synthesis(spec, setup, out);
+      std::cout << " " << std::fixed << std::setprecision(1) << r.yosys_seconds << " s, "
+                << r.resources.lut4 << " LUT4, " << r.resources.ff << " FF, " << r.resources.mult18
+                << " MULT18X18, " << r.resources.ramb16 << " RAMB16, ~" << r.timing.fmax_mhz
+                << " MHz\n";
+      designs[label] = result_json(r);
+      results.emplace(label, std::move(r));
+    } catch (const Error& e) {
+      // One design failing (e.g. RTL in progress) must not hide the others' figures.
+      std::cout << " FAILED\n" << e.what() << "\n";
+      designs[label] = {{"top", spec.top}, {"status", "failed"}, {"error", e.what()}};
+    }
+  }
+  if (results.empty()) throw Error("synth: no design synthesised; see the messages above");
+
+  // Lanes that fit and the clock: from the synthesised core when there is one, otherwise
+  // from TEM + MPM per lane (memories and stream ports then come on top).
+  json fit;
+  int lanes_fit = 0;
+  double clock_mhz = 1e9;
+  for (const auto& [label, r] : results) clock_mhz = std::min(clock_mhz, r.timing.fmax_mhz);
+  const bool have_lane = results.count("tem") && results.count("mpm");
+  if (have_lane) {
+    const Resources lane = sum(results.at("tem").resources, results.at("mpm").resources);
+    lanes_fit = synth::lanes_that_fit(lane, Resources{});
+    fit["per_lane_tem_plus_mpm"] = resources_json(lane);
+    fit["method"] = "XC2V6000 budget / (TEM + MPM) per lane; shared memories not included";
+  }
+  if (results.count("core")) {
+    const Resources& core = results.at("core").resources;
+    if (have_lane && opt.lanes > 1) {
+      // Shared part = core - Lanes x (TEM + MPM); lanes scale the per-lane part.
+      Resources lane = sum(results.at("tem").resources, results.at("mpm").resources);
+      Resources shared;
+      shared.lut4 = std::max(0, core.lut4 - opt.lanes * lane.lut4);
+      shared.ff = std::max(0, core.ff - opt.lanes * lane.ff);
+      shared.mult18 = std::max(0, core.mult18 - opt.lanes * lane.mult18);
+      shared.ramb16 = std::max(0, core.ramb16 - opt.lanes * lane.ramb16);
+      lanes_fit = synth::lanes_that_fit(lane, shared);
+      fit["shared"] = resources_json(shared);
+      fit["method"] =
+          "XC2V6000 budget: core at --lanes minus lanes x (TEM + MPM) is the shared "
+          "part; each further lane adds TEM + MPM";
+    } else {
+      lanes_fit = synth::utilisation(core).slices <= synth::Device{}.slices &&
+                          core.mult18 <= synth::Device{}.mult18 &&
+                          core.ramb16 <= synth::Device{}.ramb16
+                      ? opt.lanes
+                      : 0;
+      fit["method"] = "synthesised core at --lanes checked against the XC2V6000 budget";
+    }
+  }
+  fit["max_lanes_xc2v6000"] = lanes_fit;
+
+  // Performance model.
+  synth::CycleModel cycle_model;
+  const int lanes_used = std::max(1, lanes_fit);
+  const int mults_per_edge = results.count("tem") ? results.at("tem").resources.mult18 : 0;
+  json perf = json::object();
+  perf["clock_mhz_estimate"] = clock_mhz;
+  perf["lanes"] = lanes_used;
+  perf["cycle_formula"] = "ceil(E/L) + tem_latency + ceil((2E + N0)/L) + mpm_latency + overhead";
+  perf["cycle_model"] = {{"tem_latency", cycle_model.tem_latency},
+                         {"mpm_latency", cycle_model.mpm_latency},
+                         {"overhead", cycle_model.overhead},
+                         {"source", cycle_model.source}};
+  perf["paper_2003"] = {{"fpga_xc2v6000_ms", kPaperFpgaStepMs},
+                        {"pc_pentium4_1p7ghz_ms", kPaperPcStepMs},
+                        {"tem", {{"slices", kPaperTemSlices}, {"mult18x18", kPaperTemMults}}},
+                        {"mpm", {{"slices", kPaperMpmSlices}, {"mult18x18", kPaperMpmMults}}}};
+  const double peak_edges_per_s =
+      mults_per_edge > 0
+          ? (synth::Device{}.mult18 / static_cast<double>(mults_per_edge)) * clock_mhz * 1e6
+          : 0.0;
+  perf["multipliers_per_edge"] = mults_per_edge;
+  perf["peak_edge_updates_per_s"] = peak_edges_per_s;
+  json rows = json::array();
+  for (const std::string name : {"block5", "block15"}) {
+    const Scenario scenario = load_scenario(name);
+    const Model model = scenario.build_model();
+    synth::ProblemSize size{name, model.num_particles(), model.num_edges(), 0};
+    std::vector<int> degree(model.num_particles(), 0);
+    for (const Edge& e : model.edges) ++degree[e.s], ++degree[e.e];
+    size.particles_without_edges = static_cast<int>(std::count(degree.begin(), degree.end(), 0));
+    const long long cycles = synth::cycles_per_step(size, lanes_used, cycle_model);
+    const double step_us = cycles / clock_mhz;
+    const double edge_rate = size.edges / (step_us * 1e-6);
+    json row = {
+        {"scenario", name},
+        {"particles", size.particles},
+        {"edges", size.edges},
+        {"cycles_per_step", cycles},
+        {"estimated_us_per_step", step_us},
+        {"edge_updates_per_s", edge_rate},
+        {"fraction_of_multiplier_peak", peak_edges_per_s > 0 ? edge_rate / peak_edges_per_s : 0.0},
+        {"speedup_vs_paper_fpga", kPaperFpgaStepMs * 1e3 / step_us},
+        {"speedup_vs_paper_pc", kPaperPcStepMs * 1e3 / step_us}};
+    const double target_us = name == std::string("block5") ? kTargetBlock5Us : kTargetBlock15Us;
+    row["target_us"] = target_us;
+    row["target_met"] = step_us <= target_us;
+    row["peak_target_met"] =
+        peak_edges_per_s > 0 && edge_rate >= kTargetPeakFraction * peak_edges_per_s;
+    if (opt.time_reference) {
+      const double ref = reference_seconds_per_step(scenario);
+      row["reference_model_us_per_step_this_machine"] = ref * 1e6;
+      row["speedup_vs_reference_model"] = ref * 1e6 / step_us;
+    }
+    std::cout << "perf: " << name << " E=" << size.edges << " N=" << size.particles
+              << " L=" << lanes_used << " cycles=" << cycles << " -> " << std::setprecision(2)
+              << step_us << " us/step (target " << target_us << " us)\n";
+    rows.push_back(row);
+  }
+  perf["scenarios"] = rows;
+
+  json delays = json::array();
+  for (const auto& d : synth::Virtex2Delays{}.all()) {
+    delays.push_back({{"name", d.name}, {"ns", d.ns}, {"what", d.what}, {"source", d.source}});
+  }
+  const double period_ns = 1e3 / clock_mhz;
+  write_ucf(out / "rheo_core.ucf", period_ns);
+
+  json report = {{"tool", "yosys 0.23, synth_xilinx -family xc2v -flatten -ise -noiopad"},
+                 {"device",
+                  {{"name", "XC2V6000"},
+                   {"speed_grade", -6},
+                   {"slices", 33792},
+                   {"mult18x18", 144},
+                   {"ramb16", 144}}},
+                 {"slice_formula",
+                  "estimated_slices = ceil(max(LUT4, FF) / 2) (2 LUT4 + 2 FF per slice; "
+                  "a lower bound)"},
+                 {"lanes_requested", opt.lanes},
+                 {"designs", designs},
+                 {"fit", fit},
+                 {"delay_model",
+                  {{"figures", delays},
+                   {"constraints_file", "rheo_core.ucf"},
+                   {"clock_period_ns", period_ns}}},
+                 {"performance", perf}};
+  std::ofstream json_out(out / "synth.json");
+  json_out << report.dump(2) << "\n";
+  if (!json_out) throw Error((out / "synth.json").string() + ": write failed");
+  std::cout << "synth: wrote " << (out / "synth.json").string() << "\n";
+}
+
+}  // namespace
+
+void register_synth(CLI::App& app) {
+  auto opt = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "synth",
+      "Synthesise the TEM, the MPM and the core for Virtex-II (Yosys synth_xilinx -family "
+      "xc2v): resources, estimated clock, lanes that fit an XC2V6000, time per step; writes "
+      "DIR/synth.json, EDIF netlists and a UCF clock constraint.");
+  cmd->add_option("--lanes", opt->lanes, "TEM/MPM lanes of the core")->capture_default_str();
+  cmd->add_option("--out", opt->out, "output directory")->required();
+  cmd->add_option("--designs", opt->designs, "subset of tem, mpm, core")
+      ->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--core-top", opt->core_top, "top module of the core")->capture_default_str();
+  cmd->add_option("--core-param", opt->core_params,
+                  "extra Name=Value parameter of the core top (e.g. a smaller capacity)");
+  cmd->add_flag("!--no-reference-timing", opt->time_reference,
+                "skip timing the double reference model");
+  cmd->callback([opt] { run(*opt); });
+}
+
+}  // namespace rheo::cli
