@@ -62,10 +62,13 @@ struct Model {
   bool floor = true;                           // unilateral floor at z = 0
   TopologyMaintenance topology;
   VolumePreservation volume;
-  double mass_scale = 1.0;  // documented mass scaling factor already applied
-  double size = 0.0;        // object size (largest extent) [m], for relative errors
-  double height = 0.0;      // initial top-surface height [m] (plate contact height)
-  double top_area = 0.0;    // top face area [m^2] (informational)
+  // Documented inertia scaling already applied to `mass`. It scales inertia only: the
+  // simulator applies gravity as the physical weight (mass / mass_scale) * g, i.e. the
+  // acceleration g / mass_scale, so a quasi-static run keeps its real loads.
+  double mass_scale = 1.0;
+  double size = 0.0;      // object size (largest extent) [m], for relative errors
+  double height = 0.0;    // initial top-surface height [m] (plate contact height)
+  double top_area = 0.0;  // top face area [m^2] (informational)
 
   int num_particles() const { return static_cast<int>(x0.size()); }
   int num_edges() const { return static_cast<int>(edges.size()); }
