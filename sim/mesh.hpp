@@ -29,8 +29,8 @@ enum class Structure {
 //   the share of a uniform plate load carried by one top particle.
 //   a_min, a_max, hardening, nonlinear are copied unchanged.
 // Masses: density * sx * sy * sz / N * mass_scale each (uniform lumping; mass_scale is the
-// documented inertia scaling for quasi-static runs, recorded in Model::mass_scale; the
-// weight stays physical, see Model::mass_scale).
+// documented inertia scaling for quasi-static runs, recorded in Model::mass_scale;
+// make_block leaves gravity unscaled, see Model::mass_scale).
 struct BlockSpec {
   int dim = 3;
   int nx = 5, ny = 5, nz = 5;                // particles per axis (ny ignored in 2D)

@@ -62,9 +62,9 @@ struct Model {
   bool floor = true;                           // unilateral floor at z = 0
   TopologyMaintenance topology;
   VolumePreservation volume;
-  // Documented inertia scaling already applied to `mass`. It scales inertia only: the
-  // simulator applies gravity as the physical weight (mass / mass_scale) * g, i.e. the
-  // acceleration g / mass_scale, so a quasi-static run keeps its real loads.
+  // Documented inertia scaling already applied to `mass` (informational here). The
+  // simulator applies `gravity` as given: whoever scales the masses divides `gravity` by
+  // the same factor so the weight stays physical (the scenario loader does).
   double mass_scale = 1.0;
   double size = 0.0;      // object size (largest extent) [m], for relative errors
   double height = 0.0;    // initial top-surface height [m] (plate contact height)

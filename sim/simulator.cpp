@@ -308,7 +308,7 @@ StepReport Simulator::step_sie(double plate_z) {
   compute_forces(state_, force_, ddot_, mdot_, &length_);
   const double dt = options_.dt;
   const double inv_dt = 1.0 / dt;
-  const Vec3 g = model_.gravity / model_.mass_scale;  // physical weight, see model.hpp
+  const Vec3 g = model_.gravity;
   const bool floor = model_.floor;
   const bool external = !external_.empty();
   StepReport report;
@@ -365,7 +365,7 @@ StepReport Simulator::step_rk4(double plate_z) {
   // Acceleration of particle i in stage j (zero for fixed particles).
   auto accel = [&](int j, int i) -> Vec3 {
     if (is_fixed(model_.flags[i])) return Vec3::Zero();
-    Vec3 a = stage_f_[j][i] / model_.mass[i] + model_.gravity / model_.mass_scale;
+    Vec3 a = stage_f_[j][i] / model_.mass[i] + model_.gravity;
     if (!external_.empty()) a += external_[i] / model_.mass[i];
     return a;
   };
@@ -448,7 +448,7 @@ double Simulator::energy() const {
   for (int i = 0; i < model_.num_particles(); ++i) {
     if (is_fixed(model_.flags[i])) continue;
     e += 0.5 * model_.mass[i] * state_.v[i].squaredNorm();
-    e -= model_.mass[i] / model_.mass_scale * model_.gravity.dot(state_.x[i]);
+    e -= model_.mass[i] * model_.gravity.dot(state_.x[i]);
   }
   for (int k = 0; k < model_.num_edges(); ++k) {
     const Edge& edge = model_.edges[k];

@@ -47,8 +47,7 @@ double max_stable_dt(const Model& model, Integrator integrator);
 // One semi-implicit Euler step (the rule the hardware copies exactly):
 //  1. From the current state: internal forces F_i (edges, topology maintenance, volume),
 //     each edge's ddot, mdot and current length l.
-//  2. Each particle: fixed -> x = x0, v = 0. Otherwise v += dt*(F_i/m_i + g/mass_scale +
-//  F_ext,i/m_i);
+//  2. Each particle: fixed -> x = x0, v = 0. Otherwise v += dt*(F_i/m_i + g + F_ext,i/m_i);
 //     x += dt*v; floor (if enabled): if x.z < 0 then x.z = 0, v.z = max(v.z, 0);
 //     if the particle is kPlate and x.z > plate_z then x.z = plate_z,
 //     v.z = min(v.z, (plate_z - z_start) / dt) with z_start its height at the start of the
