@@ -1,0 +1,323 @@
+// Bit-true model of the core's datapath, written as an HLS kernel: static sizes, no
+// allocation or recursion inside the kernel, loop pragmas as Vitis HLS takes them.
+// It mirrors rtl/ operation for operation (formats, rounding points, rsqrt seed table and
+// iterations, accumulation order); tests/hw checks the two for exact equality.
+//
+// One step (equations of design.md §3 in folded units, see fixed_format.hpp):
+//   TEM, per edge k (s -> e), one per clock:
+//     r = x_e - x_s, dp = p_e - p_s, ds = d - L
+//     y = rsqrt(r.r) (seed ROM + Newton-Raphson), l = |r| = r.r * y, u = r * y
+//     ldot = u . dp                          (length change per step)
+//     dd = beta * ldot - alpha * ds          (Voigt length change per step)
+//     T  = kt * ds + ct * ldot               (= k1 (d-L) + c1 ddot, folded)
+//     F_k = T * u;  d <- clamp(d + dd, a_min l, a_max l)
+//   MPM, per particle i, one per clock, after its incident edges are gathered in the
+//   host-given order (the gather table):
+//     f = sum of +F_k (i = s) and -F_k (i = e)
+//     p += minv * f + g;  x += p
+//     fixed: x = x0, p = 0
+//     plate particle above the plate: z = plate_z, p.z = min(p.z, plate_z - z_start),
+//       plate force += f.z
+//     else free particle below the floor: z = 0, p.z = max(p.z, 0)
+#pragma once
+
+#include <cstdint>
+
+#include "hls/fixed_format.hpp"
+
+namespace rheo::hls {
+
+// ---- fixed-point primitives (the RTL's rheo_fixed_pkg functions) ----------------------
+
+// Shift right by s with the format's rounding (s <= 0 shifts left).
+template <Rounding R>
+inline i128 shift_round(i128 v, int s) {
+  if (s <= 0) return v * (i128(1) << -s);
+  if (R == Rounding::kNearest) v += i128(1) << (s - 1);
+  return v >> s;  // arithmetic shift: floor
+}
+
+// Saturates to a Width-bit two's complement word, raising *flag when it clips.
+inline std::int64_t saturate(i128 v, int width, std::uint32_t* status, std::uint32_t bit) {
+  const i128 hi = (i128(1) << (width - 1)) - 1;
+  const i128 lo = -(i128(1) << (width - 1));
+  if (v > hi) {
+    *status |= bit;
+    return static_cast<std::int64_t>(hi);
+  }
+  if (v < lo) {
+    *status |= bit;
+    return static_cast<std::int64_t>(lo);
+  }
+  return static_cast<std::int64_t>(v);
+}
+
+// A coefficient: mantissa * 2^-shift.
+struct Coef {
+  std::int32_t mant = 0;   // 18-bit signed
+  std::int32_t shift = 0;  // -16..47 (stored with kCoefShiftBias)
+};
+
+// a * coef, result shifted right by a further `extra` bits (the format change).
+template <class Fmt>
+inline std::int64_t mul_coef(std::int64_t a, const Coef& c, int extra, std::uint32_t* status,
+                             std::uint32_t bit) {
+  const i128 prod = i128(a) * c.mant;
+  return saturate(shift_round<Fmt::kRounding>(prod, c.shift + extra), Fmt::kWidth, status, bit);
+}
+
+// Number of significant bits of a non-negative value (0 for 0).
+inline int bit_length(i128 v) {
+  int n = 0;
+  while (v > 0 && n < 127) {
+    v >>= 1;
+    ++n;
+  }
+  return n;
+}
+
+// ---- reciprocal square root -----------------------------------------------------------
+
+struct RsqrtResult {
+  std::int64_t mant;  // M: l2 normalised to [2^30, 2^32)
+  std::int64_t y;     // Y ~ 2^30 / sqrt(M / 2^30), Q2.30
+  int k;              // l2_raw = M * 4^k
+  bool degenerate;    // l2 == 0
+};
+
+// y = 1/sqrt(m) for m = M/2^30 in [1, 4). Shared by the l2 path and the accuracy test.
+template <Rounding R>
+inline std::int64_t rsqrt_mantissa(std::int64_t m_raw) {
+  const int index = static_cast<int>(m_raw >> (32 - kRsqrtIndexBits));
+  std::int64_t y = std::int64_t(rsqrt_seed(index)) << (kRsqrtFrac - (kRsqrtSeedBits - 1));
+#pragma HLS UNROLL
+  for (int it = 0; it < kRsqrtIterations; ++it) {
+    const std::int64_t y2 = static_cast<std::int64_t>(shift_round<R>(i128(y) * y, kRsqrtFrac));
+    const std::int64_t my2 =
+        static_cast<std::int64_t>(shift_round<R>(i128(m_raw) * y2, kRsqrtFrac));
+    const std::int64_t three_minus = (std::int64_t(3) << kRsqrtFrac) - my2;
+    y = static_cast<std::int64_t>(shift_round<R>(i128(y) * three_minus, kRsqrtFrac + 1));
+  }
+  return y;
+}
+
+// Normalises l2 (unsigned, any binary point) to M * 4^k with M in [2^30, 2^32).
+template <Rounding R>
+inline RsqrtResult rsqrt_l2(i128 l2) {
+  RsqrtResult res{0, 0, 0, l2 == 0};
+  if (res.degenerate) return res;
+  const int n = bit_length(l2);
+  const int two_k = ((n - 31) % 2 == 0) ? n - 31 : n - 32;
+  res.k = two_k / 2;
+  // Right shifts truncate (bits below the 32-bit mantissa are dropped, as in the RTL).
+  res.mant = static_cast<std::int64_t>(two_k >= 0 ? (l2 >> two_k) : (l2 << -two_k));
+  res.y = rsqrt_mantissa<R>(res.mant);
+  return res;
+}
+
+// ---- TEM ------------------------------------------------------------------------------
+
+struct MaterialCoefs {
+  Coef alpha, beta, kt, ct, a_min, a_max;
+  std::uint32_t flags = 0;  // MaterialFlag
+};
+
+struct TemIn {
+  std::int64_t xs[3], xe[3], ps[3], pe[3];
+  std::int64_t d, L;
+};
+
+struct TemOut {
+  std::int64_t f[3];  // force on the start particle (F format); the end gets -f
+  std::int64_t d;     // new Voigt length (X format)
+};
+
+template <class Fmt>
+inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* status) {
+#pragma HLS PIPELINE II = 1
+  constexpr int W = Fmt::kWidth;
+  constexpr Rounding R = Fmt::kRounding;
+  using S = CoefShifts<Fmt>;
+  const std::uint32_t kFlag = kStatusTemSaturated;
+  std::int64_t r[3], dp[3];
+  for (int i = 0; i < 3; ++i) {
+    r[i] = saturate(i128(in.xe[i]) - in.xs[i], W, status, kFlag);
+    dp[i] = saturate(i128(in.pe[i]) - in.ps[i], W, status, kFlag);
+  }
+  const std::int64_t ds = saturate(i128(in.d) - in.L, W, status, kFlag);
+  const i128 l2 = i128(r[0]) * r[0] + i128(r[1]) * r[1] + i128(r[2]) * r[2];
+  const RsqrtResult rs = rsqrt_l2<R>(l2);
+  if (rs.degenerate) *status |= kStatusDegenerateEdge;
+  // l = M * Y * 2^(k - 45) in X format; u = r * Y * 2^-(k + 15) in Q2.30 (fixed_format.hpp).
+  const std::int64_t l =
+      saturate(shift_round<R>(i128(rs.mant) * rs.y, 45 - rs.k), W, status, kFlag);
+  std::int64_t u[3];
+  for (int i = 0; i < 3; ++i)
+    u[i] = saturate(shift_round<R>(i128(r[i]) * rs.y, rs.k + 15), 32, status, kFlag);
+  const i128 ldot_acc = i128(u[0]) * dp[0] + i128(u[1]) * dp[1] + i128(u[2]) * dp[2];
+  const std::int64_t ldot = saturate(shift_round<R>(ldot_acc, kFracU), W, status, kFlag);
+  const std::int64_t dd_beta = mul_coef<Fmt>(ldot, m.beta, S::kBeta, status, kFlag);
+  const std::int64_t dd_alpha = mul_coef<Fmt>(ds, m.alpha, S::kAlpha, status, kFlag);
+  const std::int64_t dd = saturate(i128(dd_beta) - dd_alpha, W, status, kFlag);
+  const std::int64_t t_spring = mul_coef<Fmt>(ds, m.kt, S::kKt, status, kFlag);
+  const std::int64_t t_damper = mul_coef<Fmt>(ldot, m.ct, S::kCt, status, kFlag);
+  const std::int64_t tension = saturate(i128(t_spring) + t_damper, W, status, kFlag);
+  const std::int64_t lo = mul_coef<Fmt>(l, m.a_min, S::kClamp, status, kFlag);
+  const std::int64_t hi = mul_coef<Fmt>(l, m.a_max, S::kClamp, status, kFlag);
+  TemOut out;
+  for (int i = 0; i < 3; ++i)
+    out.f[i] = saturate(shift_round<R>(i128(tension) * u[i], kFracU), W, status, kFlag);
+  std::int64_t d_new =
+      saturate(i128(in.d) + shift_round<R>(dd, Fmt::kFracP - Fmt::kFracX), W, status, kFlag);
+  if ((m.flags & kClampLowEnable) && d_new < lo) d_new = lo;
+  if ((m.flags & kClampHighEnable) && d_new > hi) d_new = hi;
+  out.d = d_new;
+  return out;
+}
+
+// ---- MPM ------------------------------------------------------------------------------
+
+struct MpmParticle {
+  std::int64_t x[3], p[3];  // state
+  std::int64_t x0[3];       // home position (fixed particles)
+  Coef minv;                // Fu dt^2 / (m Lu)
+  std::uint32_t flags = 0;  // CoreParticleFlag
+};
+
+struct MpmGlobals {
+  std::int64_t g[3] = {0, 0, 0};  // gravity displacement per step^2 (P format)
+  std::int64_t plate_z = 0;       // X format
+  bool plate_enable = false;
+  bool floor_enable = false;
+};
+
+// Updates one particle in place; returns the z force to add to the plate accumulator
+// (0 when the particle is not held by the plate).
+template <class Fmt>
+inline std::int64_t mpm_particle(MpmParticle& q, const std::int64_t f[3], const MpmGlobals& g,
+                                 std::uint32_t* status) {
+#pragma HLS PIPELINE II = 1
+  constexpr int W = Fmt::kWidth;
+  constexpr Rounding R = Fmt::kRounding;
+  const std::uint32_t kFlag = kStatusMpmSaturated;
+  std::int64_t p[3], x[3];
+  for (int i = 0; i < 3; ++i) {
+    const std::int64_t dp = mul_coef<Fmt>(f[i], q.minv, CoefShifts<Fmt>::kMinv, status, kFlag);
+    const std::int64_t p1 = saturate(i128(q.p[i]) + dp, W, status, kFlag);
+    p[i] = saturate(i128(p1) + g.g[i], W, status, kFlag);
+    x[i] =
+        saturate(i128(q.x[i]) + shift_round<R>(p[i], Fmt::kFracP - Fmt::kFracX), W, status, kFlag);
+  }
+  std::int64_t plate_force = 0;
+  if (q.flags & kCoreFixed) {
+    for (int i = 0; i < 3; ++i) {
+      x[i] = q.x0[i];
+      p[i] = 0;
+    }
+  } else if ((q.flags & kCorePlate) && g.plate_enable && x[2] > g.plate_z) {
+    // The held particle moves with the plate: p.z <= plate_z - z_start (as the reference
+    // simulator does), so the edges see the plate's strain rate.
+    std::uint32_t lim_status = 0;
+    const std::int64_t lim =
+        saturate(shift_round<R>(i128(g.plate_z) - q.x[2], -(Fmt::kFracP - Fmt::kFracX)), W,
+                 &lim_status, kFlag);
+    *status |= lim_status;
+    x[2] = g.plate_z;
+    if (p[2] > lim) p[2] = lim;
+    plate_force = f[2];
+  } else if (g.floor_enable && x[2] < 0) {
+    x[2] = 0;
+    if (p[2] < 0) p[2] = 0;
+  }
+  for (int i = 0; i < 3; ++i) {
+    q.x[i] = x[i];
+    q.p[i] = p[i];
+  }
+  return plate_force;
+}
+
+// ---- the core's memories and one step ------------------------------------------------
+
+struct GatherEntry {
+  std::uint32_t edge = 0;      // edge whose force is added
+  std::uint32_t particle = 0;  // particle being summed
+  bool valid = false;          // false: padding or a particle without edges
+  bool negate = false;         // particle is the edge's end (force -F)
+  bool last = false;           // last entry of this particle: run the MPM
+};
+
+struct EdgeEntry {
+  std::uint32_t s = 0, e = 0, material = 0;
+  std::int64_t L = 0, d = 0;
+};
+
+struct CoreMemory {
+  MpmParticle particles[kMaxParticles];
+  EdgeEntry edges[kMaxEdges];
+  std::int64_t edge_force[kMaxEdges][3];
+  MaterialCoefs materials[kMaxMaterials];
+  GatherEntry gather[kMaxGather];
+  std::uint32_t num_particles = 0, num_edges = 0;
+  std::uint32_t gather_length = 0;  // entries in the gather table (lanes * rows)
+  std::uint32_t lanes = 1;
+  MpmGlobals globals;
+  std::uint32_t status = 0;
+  std::uint32_t step_count = 0;
+};
+
+// One time step; returns the plate force word (F format). Edge and gather loops are the
+// TEM and MPM passes of the core; their order does not change any result (forces are
+// summed per particle in gather order, the plate force in a wide accumulator).
+template <class Fmt>
+inline std::int64_t core_step(CoreMemory& mem) {
+  constexpr int W = Fmt::kWidth;
+tem_pass:
+  for (std::uint32_t k = 0; k < mem.num_edges; ++k) {
+#pragma HLS PIPELINE II = 1
+#pragma HLS LOOP_TRIPCOUNT max = 65536
+    EdgeEntry& edge = mem.edges[k];
+    const MpmParticle& s = mem.particles[edge.s];
+    const MpmParticle& e = mem.particles[edge.e];
+    TemIn in;
+    for (int i = 0; i < 3; ++i) {
+      in.xs[i] = s.x[i];
+      in.xe[i] = e.x[i];
+      in.ps[i] = s.p[i];
+      in.pe[i] = e.p[i];
+    }
+    in.d = edge.d;
+    in.L = edge.L;
+    const TemOut out = tem_edge<Fmt>(in, mem.materials[edge.material], &mem.status);
+    for (int i = 0; i < 3; ++i) mem.edge_force[k][i] = out.f[i];
+    edge.d = out.d;
+  }
+  // One accumulator per lane: the gather table interleaves the lanes' entries
+  // (entry t belongs to lane t % lanes), each lane's entries grouped by particle.
+  i128 acc[kMaxLanes][3] = {};
+  i128 plate_acc = 0;
+mpm_pass:
+  for (std::uint32_t t = 0; t < mem.gather_length; ++t) {
+#pragma HLS PIPELINE II = 1
+#pragma HLS LOOP_TRIPCOUNT max = 139264
+    const GatherEntry& g = mem.gather[t];
+    i128* lane_acc = acc[t % mem.lanes];
+    if (g.valid) {
+      for (int i = 0; i < 3; ++i) {
+        const std::int64_t f = mem.edge_force[g.edge][i];
+        lane_acc[i] += g.negate ? -i128(f) : i128(f);
+      }
+    }
+    if (g.last) {
+      std::int64_t f[3];
+      for (int i = 0; i < 3; ++i) {
+        f[i] = saturate(lane_acc[i], W, &mem.status, kStatusMpmSaturated);
+        lane_acc[i] = 0;
+      }
+      plate_acc += mpm_particle<Fmt>(mem.particles[g.particle], f, mem.globals, &mem.status);
+    }
+  }
+  ++mem.step_count;
+  return saturate(plate_acc, W, &mem.status, kStatusPlateSaturated);
+}
+
+}  // namespace rheo::hls

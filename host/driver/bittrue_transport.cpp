@@ -1,0 +1,210 @@
+#include "host/driver/bittrue_transport.hpp"
+
+#include "host/driver/core_image.hpp"
+#include "host/driver/frame_format.hpp"
+#include "sim/error.hpp"
+
+namespace rheo::driver {
+namespace {
+
+using Fmt = hls::HardwareFormat;
+
+hls::Coef unpack_coef(std::uint32_t w) {
+  hls::Coef c;
+  const std::int32_t mant = static_cast<std::int32_t>(w << (32 - hls::kCoefMantBits));
+  c.mant = mant >> (32 - hls::kCoefMantBits);  // sign-extend the 18-bit mantissa
+  c.shift =
+      static_cast<std::int32_t>((w >> frame::kCoefShiftPos) & ((1u << hls::kCoefShiftBits) - 1)) -
+      hls::kCoefShiftBias;
+  return c;
+}
+
+std::int64_t sword(std::uint32_t w) { return static_cast<std::int32_t>(w); }
+
+}  // namespace
+
+BitTrueTransport::BitTrueTransport(int lanes)
+    : lanes_(lanes), mem_(std::make_unique<hls::CoreMemory>()) {
+  mem_->lanes = lanes;
+}
+
+void BitTrueTransport::send(const std::vector<std::uint32_t>& words) {
+  in_.insert(in_.end(), words.begin(), words.end());
+  process();
+}
+
+std::vector<std::uint32_t> BitTrueTransport::receive(std::size_t n) {
+  if (out_.size() < n) {
+    throw Error(name() + ": expected " + std::to_string(n) + " response words, have " +
+                std::to_string(out_.size()));
+  }
+  std::vector<std::uint32_t> got(out_.begin(), out_.begin() + n);
+  out_.erase(out_.begin(), out_.begin() + n);
+  return got;
+}
+
+void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std::uint32_t field,
+                                  std::uint32_t w) {
+  hls::CoreMemory& m = *mem_;
+  switch (region) {
+    case frame::kRegionGlobals:
+      switch (index) {
+        case frame::kGlobalNumParticles:
+          m.num_particles = w & 0xFFFFFF;
+          break;
+        case frame::kGlobalNumEdges:
+          m.num_edges = w & 0xFFFFFF;
+          break;
+        case frame::kGlobalGatherRows:
+          gather_rows_ = w & 0xFFFFFF;
+          m.gather_length = gather_rows_ * lanes_;
+          break;
+        case frame::kGlobalGravityX:
+          m.globals.g[0] = sword(w);
+          break;
+        case frame::kGlobalGravityY:
+          m.globals.g[1] = sword(w);
+          break;
+        case frame::kGlobalGravityZ:
+          m.globals.g[2] = sword(w);
+          break;
+        case frame::kGlobalControl:
+          m.globals.floor_enable = w & frame::kControlFloor;
+          m.globals.plate_enable = w & frame::kControlPlate;
+          break;
+        default:
+          m.status |= hls::kStatusBadCommand;
+      }
+      return;
+    case frame::kRegionParticleState:
+      if (index >= std::uint32_t(hls::kMaxParticles)) return;
+      if (field < 3)
+        m.particles[index].x[field] = sword(w);
+      else
+        m.particles[index].p[field - 3] = sword(w);
+      return;
+    case frame::kRegionParticleStatic:
+      if (index >= std::uint32_t(hls::kMaxParticles)) return;
+      if (field < 3)
+        m.particles[index].x0[field] = sword(w);
+      else if (field == 3)
+        m.particles[index].minv = unpack_coef(w);
+      else
+        m.particles[index].flags = w & 3u;
+      return;
+    case frame::kRegionEdge: {
+      if (index >= std::uint32_t(hls::kMaxEdges)) return;
+      hls::EdgeEntry& e = m.edges[index];
+      if (field == 0) {
+        e.s = w & (hls::kMaxParticles - 1);
+        e.e = (w >> 16) & (hls::kMaxParticles - 1);
+      } else if (field == 1) {
+        e.L = sword(w);
+      } else if (field == 2) {
+        e.d = sword(w);
+      } else {
+        e.material = w & (hls::kMaxMaterials - 1);
+      }
+      return;
+    }
+    case frame::kRegionMaterial: {
+      if (index >= std::uint32_t(hls::kMaxMaterials)) return;
+      hls::MaterialCoefs& mc = m.materials[index];
+      hls::Coef* coefs[6] = {&mc.alpha, &mc.beta, &mc.kt, &mc.ct, &mc.a_min, &mc.a_max};
+      if (field < 6)
+        *coefs[field] = unpack_coef(w);
+      else
+        mc.flags = w & 3u;
+      return;
+    }
+    case frame::kRegionGather: {
+      if (index >= std::uint32_t(hls::kMaxGather)) return;
+      hls::GatherEntry& g = m.gather[index];
+      g.edge = w & 0xFFFF;
+      g.particle = (w >> frame::kGatherParticleShift) & (hls::kMaxParticles - 1);
+      g.valid = w & frame::kGatherValid;
+      g.negate = w & frame::kGatherNegate;
+      g.last = w & frame::kGatherLast;
+      return;
+    }
+    case frame::kRegionEdgeLength:
+      if (index < std::uint32_t(hls::kMaxEdges)) m.edges[index].d = sword(w);
+      return;
+    default:
+      return;
+  }
+}
+
+std::uint32_t BitTrueTransport::read_word(std::uint32_t region, std::uint32_t index,
+                                          std::uint32_t field) const {
+  const hls::CoreMemory& m = *mem_;
+  if (region == frame::kRegionParticleState && index < std::uint32_t(hls::kMaxParticles)) {
+    const auto& q = m.particles[index];
+    return static_cast<std::uint32_t>(field < 3 ? q.x[field] : q.p[field - 3]);
+  }
+  if (region == frame::kRegionEdgeLength && index < std::uint32_t(hls::kMaxEdges)) {
+    return static_cast<std::uint32_t>(m.edges[index].d);
+  }
+  return 0;
+}
+
+// Interprets every complete command at the front of the input (a RUN consumes its plate
+// words as they arrive, one step per word).
+void BitTrueTransport::process() {
+  hls::CoreMemory& m = *mem_;
+  while (!in_.empty()) {
+    const std::uint32_t h = in_.front();
+    const std::uint32_t op = frame::header_opcode(h);
+    const std::uint32_t region = frame::header_region(h);
+    const std::uint32_t count = frame::header_count(h);
+    if (op == frame::kOpWrite || op == frame::kOpRead) {
+      if (region >= frame::kNumRegions) {
+        m.status |= hls::kStatusBadCommand;
+        in_.pop_front();
+        continue;
+      }
+      const std::uint32_t wpe = frame::kWordsPerEntry[region];
+      const std::size_t need = 2 + (op == frame::kOpWrite ? std::size_t(count) * wpe : 0);
+      if (in_.size() < need) return;
+      in_.pop_front();
+      const std::uint32_t first = in_.front();
+      in_.pop_front();
+      for (std::uint32_t n = 0; n < count; ++n) {
+        for (std::uint32_t f = 0; f < wpe; ++f) {
+          if (op == frame::kOpWrite) {
+            write_word(region, first + n, f, in_.front());
+            in_.pop_front();
+          } else {
+            out_.push_back(read_word(region, first + n, f));
+          }
+        }
+      }
+    } else if (op == frame::kOpRun) {
+      if (count == 0) {
+        in_.pop_front();
+        continue;
+      }
+      if (in_.size() < 2) return;
+      // Step with the next plate word; the header stays with the remaining count.
+      in_.pop_front();
+      m.globals.plate_z = sword(in_.front());
+      in_.pop_front();
+      out_.push_back(static_cast<std::uint32_t>(hls::core_step<Fmt>(m)));
+      cycles_ += static_cast<std::uint32_t>(
+          cycles_per_step_formula(int(m.num_edges), int(gather_rows_), lanes_));
+      if (count > 1) in_.push_front(frame::header(frame::kOpRun, frame::kRegionGlobals, count - 1));
+    } else if (op == frame::kOpStatus) {
+      in_.pop_front();
+      out_.push_back(m.status);
+      out_.push_back(m.step_count);
+      out_.push_back(cycles_);
+      out_.push_back(static_cast<std::uint32_t>(lanes_));
+      if (count & frame::kStatusClear) m.status = 0;
+    } else {
+      m.status |= hls::kStatusBadCommand;
+      in_.pop_front();
+    }
+  }
+}
+
+}  // namespace rheo::driver

@@ -1,0 +1,367 @@
+#include "host/driver/core_image.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "host/driver/frame_format.hpp"
+#include "sim/error.hpp"
+
+namespace rheo::driver {
+namespace {
+
+// Lengths are scaled so that the object spans kLengthUnitsPerObject units: O(1) values
+// with headroom below the X range of +-16 units for motion and the plate.
+constexpr double kLengthUnitsPerObject = 8.0;
+// Positions must stay this far inside the X range (room for motion before saturation).
+constexpr double kPositionHeadroomUnits = 1.0;
+// Coefficients whose 18-bit encoding is off by more than this are refused.
+constexpr double kCoefRelTolerance = 1e-3;
+constexpr int kMaxDegree = (1 << hls::kForceAccGuardBits) - 1;
+
+std::string str(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+std::int64_t round_to_word(double scaled, int width, const std::string& what) {
+  const double limit = std::ldexp(1.0, width - 1);
+  if (!std::isfinite(scaled) || std::fabs(scaled) >= limit - 1) {
+    throw Error(what + " = " + str(scaled) + " LSB does not fit a " + std::to_string(width) +
+                "-bit word");
+  }
+  return static_cast<std::int64_t>(std::llround(scaled));
+}
+
+}  // namespace
+
+long cycles_per_step_formula(int num_edges, int gather_rows, int lanes) {
+  const long tem_rows = std::max<long>((num_edges + lanes - 1) / lanes, 1);
+  return tem_rows + kTemDrainCycles + gather_rows + kMpmDrainCycles;
+}
+
+hls::Coef encode_coef(double value, const std::string& what) {
+  if (!std::isfinite(value)) throw Error(what + ": coefficient is not finite");
+  hls::Coef c;
+  if (value == 0.0) {
+    c.mant = 0;
+    c.shift = 0;
+    return c;
+  }
+  constexpr int kMantMax = (1 << (hls::kCoefMantBits - 1)) - 1;
+  constexpr int kShiftMin = -hls::kCoefShiftBias;
+  constexpr int kShiftMax = (1 << hls::kCoefShiftBits) - 1 - hls::kCoefShiftBias;
+  int exp = 0;
+  std::frexp(std::fabs(value), &exp);          // |value| in [2^(exp-1), 2^exp)
+  int shift = (hls::kCoefMantBits - 1) - exp;  // |mant| in [2^16, 2^17)
+  shift = std::min(shift, kShiftMax);
+  if (shift < kShiftMin) {
+    throw Error(what + " = " + str(value) + " is too large for the coefficient format (max " +
+                str(std::ldexp(kMantMax, -kShiftMin)) + ")");
+  }
+  long mant = std::lround(std::ldexp(value, shift));
+  if (mant > kMantMax) mant = kMantMax;
+  if (mant < -kMantMax) mant = -kMantMax;
+  c.mant = static_cast<std::int32_t>(mant);
+  c.shift = shift;
+  const double back = decode_coef(c);
+  if (std::fabs(back - value) > kCoefRelTolerance * std::fabs(value)) {
+    throw Error(what + " = " + str(value) + " is too small for the coefficient format (encoded " +
+                str(back) + ", more than " + str(kCoefRelTolerance) + " relative error)");
+  }
+  return c;
+}
+
+double decode_coef(const hls::Coef& c) { return std::ldexp(double(c.mant), -c.shift); }
+
+Model hardware_model(const Model& model, std::vector<std::string>* dropped) {
+  Model hw = model;
+  std::vector<std::string> notes;
+  for (std::size_t i = 0; i < hw.materials.size(); ++i) {
+    EdgeMaterial& m = hw.materials[i];
+    const std::string where = "material " + std::to_string(i) + ": ";
+    if (m.nonlinear) notes.push_back(where + "nonlinear series damper (linear c2 used)");
+    if (m.hardening != 0.0) notes.push_back(where + "strain hardening");
+    if (m.has_maxwell_arm()) notes.push_back(where + "parallel Maxwell arm");
+    m.nonlinear = false;
+    m.hardening = 0.0;
+    m.k2 = 0.0;
+    m.c3 = 0.0;
+  }
+  if (hw.topology.enabled) notes.push_back("topology-maintenance forces");
+  if (hw.volume.enabled) notes.push_back("volume-preserving forces");
+  hw.topology.enabled = false;
+  hw.volume.enabled = false;
+  if (dropped) *dropped = notes;
+  return hw;
+}
+
+std::int64_t to_x_word(double meters, const CoreImage& image, const std::string& what) {
+  return round_to_word(std::ldexp(meters / image.units.length_m, image.format.frac_x),
+                       image.format.width, what);
+}
+double from_x_word(std::int64_t word, const CoreImage& image) {
+  return std::ldexp(double(word), -image.format.frac_x) * image.units.length_m;
+}
+double from_p_word(std::int64_t word, const CoreImage& image) {
+  return std::ldexp(double(word), -image.format.frac_p) * image.units.length_m / image.units.dt_s;
+}
+double from_f_word(std::int64_t word, const CoreImage& image) {
+  return std::ldexp(double(word), -image.format.frac_f) * image.units.force_N;
+}
+
+CoreImage make_core_image(const Model& model_in, const State& state, double dt, int lanes,
+                          const FormatDesc& format) {
+  if (lanes < 1 || lanes > hls::kMaxLanes) {
+    throw Error("lanes = " + std::to_string(lanes) + ": expected 1.." +
+                std::to_string(hls::kMaxLanes));
+  }
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw Error("dt must be positive and finite");
+  CoreImage img;
+  img.format = format;
+  img.lanes = lanes;
+  const Model model = hardware_model(model_in, &img.dropped_features);
+  const int np = model.num_particles();
+  const int ne = model.num_edges();
+  if (np < 1 || np > hls::kMaxParticles) {
+    throw Error("model has " + std::to_string(np) + " particles: the core holds 1.." +
+                std::to_string(hls::kMaxParticles));
+  }
+  if (ne > hls::kMaxEdges) {
+    throw Error("model has " + std::to_string(ne) + " edges: the core holds at most " +
+                std::to_string(hls::kMaxEdges));
+  }
+  if (static_cast<int>(model.materials.size()) > hls::kMaxMaterials) {
+    throw Error("model has " + std::to_string(model.materials.size()) +
+                " materials: the core holds at most " + std::to_string(hls::kMaxMaterials));
+  }
+  if (static_cast<int>(state.x.size()) != np || static_cast<int>(state.v.size()) != np ||
+      static_cast<int>(state.d.size()) != ne) {
+    throw Error("state does not match the model (particle or edge count)");
+  }
+
+  // ---- units ----
+  Vec3 lo = model.x0[0], hi = model.x0[0];
+  for (const Vec3& x : model.x0) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  const double extent = (hi - lo).maxCoeff();
+  if (!(extent > 0.0)) throw Error("model has zero extent: cannot choose a length unit");
+  img.units.length_m = extent / kLengthUnitsPerObject;
+  img.units.dt_s = dt;
+  double k_max = 0.0, c_rate_max = 0.0;
+  for (const EdgeMaterial& m : model.materials) {
+    k_max = std::max(k_max, m.k1);
+    if (m.c1 + m.c2 > 0.0) c_rate_max = std::max(c_rate_max, m.c1 * m.c2 / (m.c1 + m.c2) / dt);
+  }
+  const double stiffness = k_max > 0.0 ? k_max : (c_rate_max > 0.0 ? c_rate_max : 1.0);
+  img.units.force_N = stiffness * img.units.length_m;
+  const double Lu = img.units.length_m, Fu = img.units.force_N;
+  const double x_limit = std::ldexp(1.0, format.width - 1 - format.frac_x) - kPositionHeadroomUnits;
+
+  // ---- materials ----
+  double max_l0 = 0.0;
+  for (const Edge& e : model.edges) max_l0 = std::max(max_l0, std::max(e.l0, e.L));
+  for (std::size_t i = 0; i < model.materials.size(); ++i) {
+    const EdgeMaterial& m = model.materials[i];
+    const std::string where = "material " + std::to_string(i) + ": ";
+    const double c = m.c1 + m.c2;
+    if (!(c > 0.0)) throw Error(where + "c1 + c2 must be positive for the hardware edge");
+    hls::MaterialCoefs mc;
+    mc.alpha = encode_coef(m.k1 * dt / c, where + "alpha = k1 dt / (c1 + c2)");
+    mc.beta = encode_coef(m.c2 / c, where + "beta = c2 / (c1 + c2)");
+    mc.kt = encode_coef(m.k1 * m.c2 / c * Lu / Fu, where + "kt = k1 c2 / (c1 + c2)");
+    mc.ct = encode_coef(m.c1 * m.c2 / (c * dt) * Lu / Fu, where + "ct = c1 c2 / ((c1 + c2) dt)");
+    if (m.a_min > 0.0) {
+      mc.a_min = encode_coef(m.a_min, where + "a_min");
+      mc.flags |= hls::kClampLowEnable;
+    }
+    // An upper bound the edge cannot reach inside the X range is no constraint at all.
+    if (m.a_max < 1e3 && m.a_max * 2.0 * max_l0 / Lu < x_limit) {
+      mc.a_max = encode_coef(m.a_max, where + "a_max");
+      mc.flags |= hls::kClampHighEnable;
+    }
+    img.materials.push_back(mc);
+  }
+
+  // ---- particles ----
+  const double gscale = dt * dt / Lu;
+  for (int a = 0; a < 3; ++a) {
+    img.globals.g[a] = round_to_word(std::ldexp(model.gravity[a] * gscale, format.frac_p),
+                                     format.width, "gravity component " + std::to_string(a));
+  }
+  img.globals.floor_enable = model.floor;
+  img.globals.plate_enable = true;
+  img.globals.plate_z = 0;
+  img.particles.resize(np);
+  for (int i = 0; i < np; ++i) {
+    hls::MpmParticle& q = img.particles[i];
+    const std::string where = "particle " + std::to_string(i);
+    for (int a = 0; a < 3; ++a) {
+      if (std::fabs(state.x[i][a] / Lu) > x_limit || std::fabs(model.x0[i][a] / Lu) > x_limit) {
+        throw Error(where + ": position beyond the core's range of +-" + str(x_limit * Lu) + " m");
+      }
+      q.x[a] = to_x_word(state.x[i][a], img, where + " x");
+      q.x0[a] = to_x_word(model.x0[i][a], img, where + " x0");
+      q.p[a] = round_to_word(std::ldexp(state.v[i][a] * dt / Lu, format.frac_p), format.width,
+                             where + " v dt");
+    }
+    if (!(model.mass[i] > 0.0)) throw Error(where + ": mass must be positive");
+    q.minv = encode_coef(Fu * dt * dt / (model.mass[i] * Lu), where + " dt^2 / m");
+    q.flags = 0;
+    if (model.flags[i] == kFixed) q.flags |= hls::kCoreFixed;
+    if (model.flags[i] == kPlate) q.flags |= hls::kCorePlate;
+  }
+
+  // ---- edges and incidence lists ----
+  std::vector<std::vector<std::pair<int, bool>>> incident(np);
+  img.edges.resize(ne);
+  for (int k = 0; k < ne; ++k) {
+    const Edge& e = model.edges[k];
+    const std::string where = "edge " + std::to_string(k);
+    if (e.s < 0 || e.s >= np || e.e < 0 || e.e >= np || e.s == e.e) {
+      throw Error(where + ": particle index out of range or s == e");
+    }
+    hls::EdgeEntry& ee = img.edges[k];
+    ee.s = e.s;
+    ee.e = e.e;
+    ee.material = e.material;
+    ee.L = to_x_word(e.L, img, where + " L");
+    ee.d = to_x_word(state.d[k], img, where + " d");
+    incident[e.s].push_back({k, false});
+    incident[e.e].push_back({k, true});
+  }
+  img.num_particles = np;
+  img.num_edges = ne;
+
+  // ---- gather table: lane j takes particles i with i % lanes == j ----
+  std::vector<std::vector<hls::GatherEntry>> lane_lists(lanes);
+  for (int i = 0; i < np; ++i) {
+    auto& list = lane_lists[i % lanes];
+    if (static_cast<int>(incident[i].size()) > kMaxDegree) {
+      throw Error("particle " + std::to_string(i) + " has " + std::to_string(incident[i].size()) +
+                  " edges: the force accumulator allows at most " + std::to_string(kMaxDegree));
+    }
+    if (incident[i].empty()) {
+      hls::GatherEntry g;
+      g.particle = i;
+      g.last = true;
+      list.push_back(g);
+      continue;
+    }
+    for (std::size_t n = 0; n < incident[i].size(); ++n) {
+      hls::GatherEntry g;
+      g.edge = incident[i][n].first;
+      g.negate = incident[i][n].second;
+      g.particle = i;
+      g.valid = true;
+      g.last = (n + 1 == incident[i].size());
+      list.push_back(g);
+    }
+  }
+  std::size_t rows = 0;
+  for (const auto& l : lane_lists) rows = std::max(rows, l.size());
+  if (rows * lanes > static_cast<std::size_t>(hls::kMaxGather)) {
+    throw Error("gather table of " + std::to_string(rows * lanes) + " entries exceeds the core's " +
+                std::to_string(hls::kMaxGather));
+  }
+  img.gather_rows = static_cast<int>(rows);
+  img.gather.assign(rows * lanes, hls::GatherEntry{});
+  for (int j = 0; j < lanes; ++j) {
+    for (std::size_t t = 0; t < lane_lists[j].size(); ++t)
+      img.gather[t * lanes + j] = lane_lists[j][t];
+  }
+  return img;
+}
+
+namespace {
+
+std::uint32_t pack_coef(const hls::Coef& c) {
+  return (std::uint32_t(c.shift + hls::kCoefShiftBias) << frame::kCoefShiftPos) |
+         (std::uint32_t(c.mant) & ((1u << hls::kCoefMantBits) - 1));
+}
+
+void write_command(std::vector<std::uint32_t>& out, frame::Region region, std::uint32_t start,
+                   const std::vector<std::uint32_t>& words) {
+  const std::uint32_t wpe = frame::kWordsPerEntry[region];
+  // Keep each command below the 24-bit count.
+  const std::uint32_t max_entries = 1u << 20;
+  const std::uint32_t entries = static_cast<std::uint32_t>(words.size() / wpe);
+  for (std::uint32_t first = 0; first < entries; first += max_entries) {
+    const std::uint32_t n = std::min(max_entries, entries - first);
+    out.push_back(frame::header(frame::kOpWrite, region, n));
+    out.push_back(start + first);
+    out.insert(out.end(), words.begin() + std::size_t(first) * wpe,
+               words.begin() + std::size_t(first + n) * wpe);
+  }
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> image_frames(const CoreImage& img) {
+  if (img.format.width != 32) throw Error("frames carry 32-bit words: only the hardware format");
+  std::vector<std::uint32_t> out;
+  std::vector<std::uint32_t> w;
+  w = {std::uint32_t(img.num_particles),
+       std::uint32_t(img.num_edges),
+       std::uint32_t(img.gather_rows),
+       std::uint32_t(img.globals.g[0]),
+       std::uint32_t(img.globals.g[1]),
+       std::uint32_t(img.globals.g[2]),
+       (img.globals.floor_enable ? frame::kControlFloor : 0u) |
+           (img.globals.plate_enable ? frame::kControlPlate : 0u)};
+  write_command(out, frame::kRegionGlobals, 0, w);
+  w.clear();
+  for (const auto& q : img.particles) {
+    for (int a = 0; a < 3; ++a) w.push_back(std::uint32_t(q.x[a]));
+    for (int a = 0; a < 3; ++a) w.push_back(std::uint32_t(q.p[a]));
+  }
+  write_command(out, frame::kRegionParticleState, 0, w);
+  w.clear();
+  for (const auto& q : img.particles) {
+    for (int a = 0; a < 3; ++a) w.push_back(std::uint32_t(q.x0[a]));
+    w.push_back(pack_coef(q.minv));
+    w.push_back(q.flags);
+  }
+  write_command(out, frame::kRegionParticleStatic, 0, w);
+  w.clear();
+  for (const auto& e : img.edges) {
+    w.push_back(e.s | (e.e << 16));
+    w.push_back(std::uint32_t(e.L));
+    w.push_back(std::uint32_t(e.d));
+    w.push_back(e.material);
+  }
+  write_command(out, frame::kRegionEdge, 0, w);
+  w.clear();
+  for (const auto& m : img.materials) {
+    for (const hls::Coef* c : {&m.alpha, &m.beta, &m.kt, &m.ct, &m.a_min, &m.a_max})
+      w.push_back(pack_coef(*c));
+    w.push_back(m.flags);
+  }
+  write_command(out, frame::kRegionMaterial, 0, w);
+  w.clear();
+  for (const auto& g : img.gather) {
+    w.push_back(g.edge | (g.particle << frame::kGatherParticleShift) |
+                (g.valid ? frame::kGatherValid : 0u) | (g.negate ? frame::kGatherNegate : 0u) |
+                (g.last ? frame::kGatherLast : 0u));
+  }
+  write_command(out, frame::kRegionGather, 0, w);
+  return out;
+}
+
+void load_memory(const CoreImage& img, hls::CoreMemory& mem) {
+  mem.num_particles = img.num_particles;
+  mem.num_edges = img.num_edges;
+  mem.gather_length = static_cast<std::uint32_t>(img.gather.size());
+  mem.lanes = img.lanes;
+  mem.globals = img.globals;
+  for (int i = 0; i < img.num_particles; ++i) mem.particles[i] = img.particles[i];
+  for (int k = 0; k < img.num_edges; ++k) mem.edges[k] = img.edges[k];
+  for (std::size_t m = 0; m < img.materials.size(); ++m) mem.materials[m] = img.materials[m];
+  for (std::size_t t = 0; t < img.gather.size(); ++t) mem.gather[t] = img.gather[t];
+}
+
+}  // namespace rheo::driver

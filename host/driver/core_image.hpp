@@ -1,0 +1,83 @@
+// Conversion of a rheo::Model (SI units) into the core's fixed-point image: unit choice,
+// host-side constant folding (design.md §4), coefficient encoding with range checks, the
+// gather table for a lane count, and the conversions of plate heights, forces and state
+// words back and forth. Throws rheo::Error naming the particle/edge/material and the
+// limit when a value does not fit.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "hls/rheo_kernel.hpp"
+#include "sim/model.hpp"
+
+namespace rheo::driver {
+
+// Fractional bits of one state-word format (runtime copy of rheo::hls::Format).
+struct FormatDesc {
+  int width = 32, frac_x = 27, frac_p = 31, frac_f = 20;
+  template <class Fmt>
+  static FormatDesc of() {
+    return {Fmt::kWidth, Fmt::kFracX, Fmt::kFracP, Fmt::kFracF};
+  }
+};
+
+// The unit choice: lengths in length_m, forces in force_N, time in steps of dt_s.
+struct Units {
+  double length_m = 1.0;
+  double force_N = 1.0;
+  double dt_s = 1e-4;
+};
+
+// Everything the core holds, as integer field values (not yet packed into frames).
+struct CoreImage {
+  FormatDesc format;
+  Units units;
+  int lanes = 1;
+  int num_particles = 0;
+  int num_edges = 0;
+  int gather_rows = 0;  // G: rows of the gather table
+  std::vector<hls::MpmParticle> particles;
+  std::vector<hls::EdgeEntry> edges;
+  std::vector<hls::MaterialCoefs> materials;
+  std::vector<hls::GatherEntry> gather;  // gather_rows * lanes entries, row-major
+  hls::MpmGlobals globals;
+  // Model features the linear hardware edge does not implement (ignored in the image).
+  std::vector<std::string> dropped_features;
+};
+
+// Compute clocks per step of the RTL core (rtl/rheo_core.sv header):
+//   max(ceil(E / lanes), 1) + TemDrain + G + MpmDrain.
+inline constexpr int kTemDrainCycles = 21;
+inline constexpr int kMpmDrainCycles = 10;
+long cycles_per_step_formula(int num_edges, int gather_rows, int lanes);
+
+// Builds the image of `model` in `state` for time step dt. Throws rheo::Error on values
+// out of range (positions beyond the X range, coefficients beyond the 18-bit mantissa,
+// too many particles/edges/materials for the core's memories, degree >= 256).
+CoreImage make_core_image(const Model& model, const State& state, double dt, int lanes,
+                          const FormatDesc& format = FormatDesc{});
+
+// The model the hardware computes: `model` without the features the linear three-element
+// hardware edge leaves out (nonlinear damper, hardening, Maxwell arm, topology and volume
+// forces). The double reference runs on this for fixed-vs-double comparisons.
+Model hardware_model(const Model& model, std::vector<std::string>* dropped = nullptr);
+
+// Conversions between SI values and words of a format.
+std::int64_t to_x_word(double meters, const CoreImage& image, const std::string& what);
+double from_x_word(std::int64_t word, const CoreImage& image);
+double from_p_word(std::int64_t word, const CoreImage& image);  // -> velocity [m/s]
+double from_f_word(std::int64_t word, const CoreImage& image);  // -> force [N]
+
+// Coefficient encoding: value = mant * 2^-shift with |mant| < 2^17 and 0 <= shift < 64.
+hls::Coef encode_coef(double value, const std::string& what);
+double decode_coef(const hls::Coef& c);
+
+// Frame words of the whole image (a sequence of write commands), hardware format only.
+std::vector<std::uint32_t> image_frames(const CoreImage& image);
+
+// Loads the image straight into a bit-true core memory (any format).
+void load_memory(const CoreImage& image, hls::CoreMemory& mem);
+
+}  // namespace rheo::driver

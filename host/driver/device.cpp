@@ -1,0 +1,80 @@
+#include "host/driver/device.hpp"
+
+#include "hls/fixed_format.hpp"
+#include "host/driver/frame_format.hpp"
+#include "sim/error.hpp"
+
+namespace rheo::driver {
+
+std::string describe_status_flags(std::uint32_t flags) {
+  static const std::pair<std::uint32_t, const char*> kNames[] = {
+      {hls::kStatusTemSaturated, "TEM result saturated"},
+      {hls::kStatusMpmSaturated, "MPM result saturated"},
+      {hls::kStatusDegenerateEdge, "zero-length edge"},
+      {hls::kStatusPlateSaturated, "plate force saturated"},
+      {hls::kStatusBadCommand, "bad command"},
+  };
+  std::string out;
+  for (const auto& [bit, name] : kNames) {
+    if (flags & bit) out += (out.empty() ? "" : ", ") + std::string(name);
+  }
+  return out.empty() ? "none" : out;
+}
+
+Device::Device(std::unique_ptr<Transport> transport) : transport_(std::move(transport)) {}
+
+void Device::load(const CoreImage& image) {
+  transport_->send(image_frames(image));
+  const CoreStatus st = read_status(true);
+  if (st.flags & hls::kStatusBadCommand) {
+    throw Error(transport_->name() + ": the core rejected the model image (bad command)");
+  }
+  if (st.lanes != static_cast<std::uint32_t>(image.lanes)) {
+    throw Error(transport_->name() + ": image built for " + std::to_string(image.lanes) +
+                " lanes, core has " + std::to_string(st.lanes));
+  }
+}
+
+std::vector<std::int32_t> Device::run(const std::vector<std::int32_t>& plate_words) {
+  if (plate_words.empty()) return {};
+  std::vector<std::uint32_t> words;
+  words.reserve(plate_words.size() + 1);
+  words.push_back(frame::header(frame::kOpRun, frame::kRegionGlobals,
+                                static_cast<std::uint32_t>(plate_words.size())));
+  for (std::int32_t w : plate_words) words.push_back(static_cast<std::uint32_t>(w));
+  transport_->send(words);
+  const std::vector<std::uint32_t> got = transport_->receive(plate_words.size());
+  const CoreStatus st = read_status(false);
+  if (st.flags != 0) {
+    throw Error(transport_->name() + ": core overflow flags after step " +
+                std::to_string(st.step_count) + ": " + describe_status_flags(st.flags) +
+                " (the model leaves the fixed-point range; reduce dt or the load)");
+  }
+  return std::vector<std::int32_t>(got.begin(), got.end());
+}
+
+std::vector<std::int32_t> Device::read_region(std::uint32_t region, int first, int count) {
+  if (count <= 0) return {};
+  transport_->send({frame::header(frame::kOpRead, frame::Region(region), std::uint32_t(count)),
+                    std::uint32_t(first)});
+  const std::vector<std::uint32_t> got =
+      transport_->receive(std::size_t(count) * frame::kWordsPerEntry[region]);
+  return std::vector<std::int32_t>(got.begin(), got.end());
+}
+
+std::vector<std::int32_t> Device::read_particle_state(int first, int count) {
+  return read_region(frame::kRegionParticleState, first, count);
+}
+
+std::vector<std::int32_t> Device::read_voigt_lengths(int first, int count) {
+  return read_region(frame::kRegionEdgeLength, first, count);
+}
+
+CoreStatus Device::read_status(bool clear) {
+  transport_->send(
+      {frame::header(frame::kOpStatus, frame::kRegionGlobals, clear ? frame::kStatusClear : 0u)});
+  const std::vector<std::uint32_t> w = transport_->receive(frame::kStatusWords);
+  return {w[0], w[1], w[2], w[3]};
+}
+
+}  // namespace rheo::driver

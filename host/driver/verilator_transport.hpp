@@ -1,0 +1,41 @@
+// In-process transport to the verilated RTL core (rtl/rheo_core.sv). Words are pushed
+// into s_axis and pulled from m_axis clock by clock, with optional random idle cycles on
+// the input side and random back-pressure on the output side (seeded), so every run also
+// exercises the stream handshakes. Optionally writes an FST waveform.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "host/driver/transport.hpp"
+
+namespace rheo::driver {
+
+struct VerilatorOptions {
+  int lanes = 1;                   // 1 or 2 (the two verilated variants)
+  std::string trace_fst;           // empty: no waveform
+  double input_idle_prob = 0.0;    // probability of holding s_axis_tvalid low in a cycle
+  double output_stall_prob = 0.0;  // probability of holding m_axis_tready low in a cycle
+  std::uint64_t seed = 1;
+  std::uint64_t timeout_cycles = 2'000'000'000;  // per receive() without progress
+};
+
+class VerilatorTransport : public Transport {
+ public:
+  explicit VerilatorTransport(const VerilatorOptions& options);
+  ~VerilatorTransport() override;
+  void send(const std::vector<std::uint32_t>& words) override;
+  std::vector<std::uint32_t> receive(std::size_t n) override;
+  std::string name() const override;
+
+  std::uint64_t cycles() const;  // clocks simulated so far
+  double wall_seconds() const;   // wall time spent clocking the model
+
+  class Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rheo::driver
