@@ -239,23 +239,42 @@ Prediction simulate(const Measurement& protocol, const SpecimenParams& p,
     for (int s = 1; s <= steps; ++s) {
       const double dt = gap / steps;
       const double plate_new = plate_m + (p_next - plate_m) * s / steps;
-      const Vec3d free = free_step(col, Vec3d(d, m, l), dt);
       const double l_plate = h - plate_new;
-      if (l_plate < free[2]) {
-        // The plate is below where the free surface would be: it pushes.
+      // Unilateral contact, quasi-static: the plate holds the top while following it takes a
+      // compressive force; otherwise the top moves freely with zero tension. In contact the
+      // contact step is tried first (cheap); out of contact the free step is tried first and
+      // the plate takes over when it is below where the free surface would be.
+      bool stepped = false;
+      if (in_contact) {
         const Vec2d z = contact_step(col, Vec2d(d, m), l, l_plate, dt);
         const double ldot = (l_plate - l) / dt;
-        l = l_plate;
-        d = z[0];
-        m = z[1];
-        force = -evaluate(col, l, ldot, d, m).tension;
-        in_contact = true;
-      } else {
-        d = free[0];
-        m = free[1];
-        l = free[2];
-        force = 0.0;
-        in_contact = false;
+        const double f = -evaluate(col, l_plate, ldot, z[0], z[1]).tension;
+        if (f >= 0.0) {
+          l = l_plate;
+          d = z[0];
+          m = z[1];
+          force = f;
+          stepped = true;
+        }
+      }
+      if (!stepped) {
+        const Vec3d free = free_step(col, Vec3d(d, m, l), dt);
+        if (l_plate < free[2]) {
+          // The plate is below where the free surface would be: it pushes.
+          const Vec2d z = contact_step(col, Vec2d(d, m), l, l_plate, dt);
+          const double ldot = (l_plate - l) / dt;
+          l = l_plate;
+          d = z[0];
+          m = z[1];
+          force = -evaluate(col, l, ldot, d, m).tension;
+          in_contact = true;
+        } else {
+          d = free[0];
+          m = free[1];
+          l = free[2];
+          force = 0.0;
+          in_contact = false;
+        }
       }
       d = clamp_voigt_length(col.material, d, l);
       if (p.lag_s > 0.0) {

@@ -60,7 +60,7 @@ Model coarse_model(const Geometry& g, const SpecimenParams& p);
 std::string coarse_mesh_description(const Geometry& g);
 
 struct SimulationOptions {
-  double max_dt = 0.05;                 // [s] upper bound of the time step
+  double max_dt = 0.1;                  // [s] upper bound of the time step
   double steps_per_time_constant = 10;  // accuracy: dt <= shortest relaxation time / this
   long max_steps = 400000;              // cap on the total steps (dt grows instead)
 };

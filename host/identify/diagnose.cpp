@@ -1,0 +1,579 @@
+#include "host/identify/diagnose.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "sim/error.hpp"
+
+namespace rheo::identify {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Plate movements below this per sample [mm] count as standing still.
+constexpr double kStillMm = 1e-6;
+
+std::string fmt(double v, int digits = 3) {
+  std::ostringstream s;
+  s << std::setprecision(digits) << v;
+  return s.str();
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  const fs::path tmp = path.string() + ".partial";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw Error(path.string() + ": cannot open for writing");
+    out << text;
+    if (!out) throw Error(path.string() + ": write failed");
+  }
+  fs::rename(tmp, path);
+}
+
+std::optional<double> holdout_rmse(const std::vector<Measurement>& holdout, const FitResult& f,
+                                   const SimulationOptions& sim) {
+  if (holdout.empty()) return std::nullopt;
+  return force_rmse(holdout, f.spec, f.values, sim);
+}
+
+std::vector<double> residuals(const Measurement& m, const FitResult& f,
+                              const SimulationOptions& sim) {
+  const Prediction pr = simulate(m, to_params(f.spec, f.values), sim);
+  std::vector<double> r(m.size());
+  for (std::size_t i = 0; i < m.size(); ++i) r[i] = m.force_N[i] - pr.force_N[i];
+  return r;
+}
+
+// Mean of r over samples [a, b) of one phase, in order.
+double mean_of(const std::vector<double>& r, const std::vector<std::size_t>& idx, std::size_t a,
+               std::size_t b) {
+  double s = 0.0;
+  for (std::size_t k = a; k < b; ++k) s += r[idx[k]];
+  return b > a ? s / static_cast<double>(b - a) : 0.0;
+}
+
+std::vector<std::size_t> indices_of(const std::vector<Phase>& ph, Phase p) {
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < ph.size(); ++i) {
+    if (ph[i] == p) idx.push_back(i);
+  }
+  return idx;
+}
+
+std::string param_list(const FitResult& f, std::size_t from) {
+  std::ostringstream s;
+  for (std::size_t i = from; i < f.values.size(); ++i) {
+    if (i > from) s << ", ";
+    s << f.spec.params[i].name << " = " << fmt(f.values[i]);
+  }
+  return s.str();
+}
+
+// The sentence that says what in the baseline's residuals shows the finding, with numbers.
+std::string evidence_sentence(const Diagnosis& d, const Measurement& m,
+                              const SimulationOptions& sim) {
+  const std::vector<Phase> ph = phases_of(m);
+  const std::vector<double> rb = residuals(m, d.baseline, sim);
+  std::ostringstream s;
+  s << std::setprecision(3);
+  const double sigma = d.noise_sigma_N;
+  const FitResult& ext = d.extended();
+  auto gain_clause = [&]() {
+    std::ostringstream g;
+    g << std::setprecision(3);
+    g << " The extended model (" << param_list(ext, 3) << ") lowers the fit RMSE from "
+      << d.baseline.rmse_force_N << " N to " << ext.rmse_force_N << " N (AIC down by "
+      << d.baseline.aic - ext.aic << ")";
+    if (d.baseline_rmse_holdout_N && d.extended_holdout()) {
+      g << " and the held-out RMSE from " << *d.baseline_rmse_holdout_N << " N to "
+        << *d.extended_holdout() << " N";
+    }
+    g << ".";
+    return g.str();
+  };
+  switch (d.cause) {
+    case Extension::kSecondRelaxationTime: {
+      const auto idx = indices_of(ph, Phase::kHold);
+      const std::size_t n = idx.size();
+      s << "During the hold the baseline residual (measured - model) is structured, not noise: "
+           "its mean is "
+        << mean_of(rb, idx, 0, n / 3) << " N over the first third of the hold, "
+        << mean_of(rb, idx, n / 3, 2 * n / 3) << " N over the middle third and "
+        << mean_of(rb, idx, 2 * n / 3, n) << " N over the last third, against a noise level of "
+        << sigma << " N; one exponential (time constant "
+        << (d.baseline.values[1] + d.baseline.values[2]) / d.baseline.values[0]
+        << " s) cannot follow a relaxation with two time scales; with a parallel Maxwell arm "
+           "the model relaxes with time constants "
+        << (ext.values[1] + ext.values[2]) / ext.values[0] << " s and "
+        << ext.values[4] / ext.values[3] << " s.";
+      break;
+    }
+    case Extension::kSensorOffset: {
+      auto idx = indices_of(ph, Phase::kAfterRelease);
+      const Prediction pr = simulate(m, to_params(d.baseline.spec, d.baseline.values), sim);
+      double sum = 0.0;
+      int n = 0;
+      for (std::size_t i = 0; i < m.size(); ++i) {
+        if (!pr.contact[i]) {
+          sum += m.force_N[i];
+          ++n;
+        }
+      }
+      s << "Whenever the plate is off the specimen (" << n
+        << " samples, the model force is exactly 0 there) the load cell still reads "
+        << (n ? sum / n : 0.0) << " N on average (noise level " << sigma
+        << " N): a constant offset of the sensor, not material behaviour.";
+      break;
+    }
+    case Extension::kSensorLag: {
+      // Samples right after the plate starts moving and right after it stops.
+      double sum_start = 0.0;
+      int n_start = 0;
+      for (std::size_t i = 1; i < m.size(); ++i) {
+        if (ph[i] != ph[i - 1]) {
+          for (std::size_t k = i; k < std::min(m.size(), i + 5); ++k) {
+            sum_start += std::abs(rb[k]);
+            ++n_start;
+          }
+        }
+      }
+      s << "The baseline misses most right where the plate changes speed: the mean absolute "
+           "residual over the 5 samples after each phase change is "
+        << (n_start ? sum_start / n_start : 0.0) << " N against a noise level of " << sigma
+        << " N, with the measured force trailing the model after each change; a first-order "
+           "load-cell lag of "
+        << ext.values[3] << " s removes it.";
+      break;
+    }
+    case Extension::kStrainHardening: {
+      const auto idx = indices_of(ph, Phase::kPush);
+      std::vector<std::size_t> moving;
+      for (auto i : idx) {
+        if (m.plate_mm[i] > kStillMm) moving.push_back(i);
+      }
+      const std::size_t n = moving.size();
+      s << "During the push the baseline residual is bowed: mean " << mean_of(rb, moving, 0, n / 3)
+        << " N over the first third of the push, " << mean_of(rb, moving, n / 3, 2 * n / 3)
+        << " N over the middle and " << mean_of(rb, moving, 2 * n / 3, n)
+        << " N over the last third (noise level " << sigma
+        << " N): the measured force curves up with strain faster than a linear spring allows; "
+           "a stiffness growing with the square of the strain (hardening "
+        << ext.values[3] << ") follows it.";
+      break;
+    }
+    case Extension::kForceDependentDamping: {
+      const auto push = indices_of(ph, Phase::kPush);
+      const auto hold = indices_of(ph, Phase::kHold);
+      double rms_push = 0.0, rms_hold = 0.0;
+      for (auto i : push) rms_push += rb[i] * rb[i];
+      for (auto i : hold) rms_hold += rb[i] * rb[i];
+      rms_push = push.empty() ? 0.0 : std::sqrt(rms_push / push.size());
+      rms_hold = hold.empty() ? 0.0 : std::sqrt(rms_hold / hold.size());
+      s << "The baseline cannot give the high-force part of the test its own flow rate: residual "
+           "RMS "
+        << rms_push << " N during the push and " << rms_hold
+        << " N during the hold against a noise level of " << sigma
+        << " N, largest where the force is highest; a series viscosity that falls by a factor "
+        << ext.values[4] << " as the stress rises to " << ext.values[3] << " Pa follows it.";
+      break;
+    }
+    case Extension::kNone: {
+      int best = -1;
+      for (std::size_t i = 0; i < d.candidates.size(); ++i) {
+        if (best < 0 || d.candidates[i].fit.aic < d.candidates[best].fit.aic) {
+          best = static_cast<int>(i);
+        }
+      }
+      s << "No candidate earns its extra parameters: the baseline fit RMSE is "
+        << d.baseline.rmse_force_N << " N against a noise level of " << sigma << " N";
+      if (best >= 0) {
+        const auto& c = d.candidates[best];
+        s << ", and the best candidate (" << cause_name(c.fit.spec.extension) << ") lowers AIC by "
+          << d.baseline.aic - c.fit.aic << " (at least " << 10 << " needed)";
+        if (c.rmse_holdout_N && d.baseline_rmse_holdout_N) {
+          s << " with held-out RMSE " << *c.rmse_holdout_N << " N vs " << *d.baseline_rmse_holdout_N
+            << " N";
+        }
+      }
+      s << ".";
+      return s.str();
+    }
+  }
+  return s.str() + gain_clause();
+}
+
+std::string phase_table(const Diagnosis& d) {
+  std::ostringstream s;
+  s << std::setprecision(3);
+  s << "| phase | samples | baseline RMS [N] | baseline mean [N] | baseline lag-1 autocorr. | "
+       "extended RMS [N] | extended mean [N] |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& p : d.phases) {
+    s << "| " << phase_name(p.phase) << " | " << p.n << " | " << p.rms_baseline << " | "
+      << p.mean_baseline << " | " << p.lag1_baseline << " | " << p.rms_extended << " | "
+      << p.mean_extended << " |\n";
+  }
+  return s.str();
+}
+
+void write_series(const fs::path& path, const Measurement& m, const FitResult& base,
+                  const FitResult& ext, const SimulationOptions& sim) {
+  const Prediction pb = simulate(m, to_params(base.spec, base.values), sim);
+  const Prediction pe = simulate(m, to_params(ext.spec, ext.values), sim);
+  const std::vector<Phase> ph = phases_of(m);
+  std::ostringstream s;
+  s << "# time_s plate_mm measured_N baseline_N extended_N resid_baseline_N resid_extended_N "
+       "phase\n";
+  s << std::setprecision(8);
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    s << m.time_s[i] << ' ' << m.plate_mm[i] << ' ' << m.force_N[i] << ' ' << pb.force_N[i] << ' '
+      << pe.force_N[i] << ' ' << m.force_N[i] - pb.force_N[i] << ' ' << m.force_N[i] - pe.force_N[i]
+      << ' ' << static_cast<int>(ph[i]) << '\n';
+  }
+  write_text(path, s.str());
+}
+
+// Runs gnuplot on a generated script; plots are an aid, so a missing gnuplot is reported
+// in the report instead of failing the diagnosis.
+bool run_gnuplot(const fs::path& dir, const std::string& script_name) {
+  const std::string cmd =
+      "cd '" + dir.string() + "' && gnuplot '" + script_name + "' > gnuplot.log 2>&1";
+  return std::system(cmd.c_str()) == 0;
+}
+
+std::string plot_commands(const std::string& dat, const std::string& png, const std::string& title,
+                          const std::string& base_name, const std::string& ext_name) {
+  std::ostringstream s;
+  s << "set output '" << png << "'\n"
+    << "set multiplot layout 2,1 title '" << title << "'\n"
+    << "set ylabel 'force [N]'\nset key top right\n"
+    << "plot '" << dat << "' u 1:3 w p pt 7 ps 0.3 lc rgb '#888888' t 'measured', "
+    << "'' u 1:4 w l lw 2 lc rgb '#d62728' t '" << base_name << "', "
+    << "'' u 1:5 w l lw 2 dt 2 lc rgb '#1f77b4' t '" << ext_name << "'\n"
+    << "set ylabel 'residual [N]'\nset xlabel 'time [s]'\n"
+    << "plot '" << dat << "' u 1:($8==0?$6:1/0) w p pt 7 ps 0.3 lc rgb '#2ca02c' t 'push', "
+    << "'' u 1:($8==1?$6:1/0) w p pt 7 ps 0.3 lc rgb '#d62728' t 'hold', "
+    << "'' u 1:($8==2?$6:1/0) w p pt 7 ps 0.3 lc rgb '#9467bd' t 'release', "
+    << "'' u 1:($8==3?$6:1/0) w p pt 7 ps 0.3 lc rgb '#8c564b' t 'after release (baseline)', "
+    << "'' u 1:7 w l lc rgb '#1f77b4' t 'extended'\n"
+    << "unset multiplot\nunset xlabel\n";
+  return s.str();
+}
+
+}  // namespace
+
+std::string phase_name(Phase p) {
+  switch (p) {
+    case Phase::kPush:
+      return "push";
+    case Phase::kHold:
+      return "hold";
+    case Phase::kRelease:
+      return "release";
+    case Phase::kAfterRelease:
+      return "after_release";
+  }
+  return "push";
+}
+
+std::vector<Phase> phases_of(const Measurement& m) {
+  std::vector<Phase> out(m.size(), Phase::kPush);
+  bool pushed = false;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    // Direction of the plate over the interval that ends at this sample (the first sample
+    // looks at the ramp from 0 at t = 0, see specimen.hpp).
+    const double prev = i == 0 ? 0.0 : m.plate_mm[i - 1];
+    const double dp = m.plate_mm[i] - prev;
+    if (dp > kStillMm) {
+      out[i] = Phase::kPush;
+      pushed = true;
+    } else if (dp < -kStillMm) {
+      out[i] = Phase::kRelease;
+    } else if (m.plate_mm[i] > kStillMm) {
+      out[i] = Phase::kHold;
+      pushed = true;
+    } else {
+      out[i] = pushed ? Phase::kAfterRelease : Phase::kPush;
+    }
+  }
+  return out;
+}
+
+double noise_from_second_differences(const Measurement& m) {
+  if (m.size() < 3) return 0.0;
+  // Second differences are dominated by the curve at kinks (phase changes); a robust
+  // scale (median absolute value / 0.6745) ignores those few samples.
+  std::vector<double> dd;
+  for (std::size_t i = 1; i + 1 < m.size(); ++i) {
+    dd.push_back(std::abs(m.force_N[i + 1] - 2.0 * m.force_N[i] + m.force_N[i - 1]));
+  }
+  std::nth_element(dd.begin(), dd.begin() + dd.size() / 2, dd.end());
+  return dd[dd.size() / 2] / 0.6744897501960817 / std::sqrt(6.0);
+}
+
+Diagnosis diagnose(const std::vector<Measurement>& fit_data,
+                   const std::vector<Measurement>& holdout, const DiagnoseOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (fit_data.empty()) throw Error("diagnose: no fit file given");
+  Diagnosis d;
+  const SimulationOptions& sim = options.fit.simulation;
+  const DataScales scales = data_scales(fit_data);
+  d.mesh = coarse_mesh_description(fit_data.front().geometry);
+  d.noise_sigma_N = noise_from_second_differences(fit_data.front());
+  d.baseline = fit_model(fit_data, model_spec(Extension::kNone, scales), {}, options.fit);
+  d.baseline_rmse_holdout_N = holdout_rmse(holdout, d.baseline, sim);
+  for (Extension e : all_extensions()) {
+    const ModelSpec spec = model_spec(e, scales);
+    CandidateFit c;
+    c.fit =
+        fit_model(fit_data, spec, extension_starts(spec, d.baseline.values, scales), options.fit);
+    // A candidate contains the baseline: never report it worse than the baseline's optimum.
+    c.rmse_holdout_N = holdout_rmse(holdout, c.fit, sim);
+    d.candidates.push_back(c);
+  }
+  // Pick: candidates in AIC order; the first that earns its parameters and, when held-out
+  // data exist, also predicts them better.
+  std::vector<int> order(d.candidates.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::sort(order.begin(), order.end(),
+            [&](int a, int b) { return d.candidates[a].fit.aic < d.candidates[b].fit.aic; });
+  for (int i : order) {
+    const CandidateFit& c = d.candidates[i];
+    if (d.baseline.aic - c.fit.aic < options.min_delta_aic) break;
+    if (c.rmse_holdout_N && d.baseline_rmse_holdout_N &&
+        !(*d.baseline_rmse_holdout_N / *c.rmse_holdout_N > options.min_holdout_ratio)) {
+      continue;
+    }
+    d.chosen = i;
+    d.cause = c.fit.spec.extension;
+    break;
+  }
+  // Residuals by phase on the first fit file.
+  const Measurement& m = fit_data.front();
+  const std::vector<Phase> ph = phases_of(m);
+  const std::vector<double> rb = residuals(m, d.baseline, sim);
+  const std::vector<double> re = residuals(m, d.extended(), sim);
+  for (Phase p : {Phase::kPush, Phase::kHold, Phase::kRelease, Phase::kAfterRelease}) {
+    PhaseResiduals pr;
+    pr.phase = p;
+    double sb = 0, sb2 = 0, se = 0, se2 = 0, lag = 0;
+    std::size_t prev = 0;
+    bool has_prev = false;
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      if (ph[i] != p) continue;
+      ++pr.n;
+      sb += rb[i];
+      sb2 += rb[i] * rb[i];
+      se += re[i];
+      se2 += re[i] * re[i];
+      if (has_prev && prev + 1 == i) lag += rb[i] * rb[prev];
+      prev = i;
+      has_prev = true;
+    }
+    if (pr.n == 0) continue;
+    pr.rms_baseline = std::sqrt(sb2 / pr.n);
+    pr.mean_baseline = sb / pr.n;
+    pr.lag1_baseline = sb2 > 0 ? lag / sb2 : 0.0;
+    pr.rms_extended = std::sqrt(se2 / pr.n);
+    pr.mean_extended = se / pr.n;
+    d.phases.push_back(pr);
+  }
+  d.evidence = evidence_sentence(d, m, sim);
+  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return d;
+}
+
+nlohmann::json diagnosis_json(const Diagnosis& d) {
+  using nlohmann::json;
+  auto params = [](const FitResult& f) {
+    json p = json::object();
+    for (std::size_t i = 0; i < f.values.size(); ++i) p[f.spec.params[i].name] = f.values[i];
+    return p;
+  };
+  auto opt = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+  const FitResult& ext = d.extended();
+  json j;
+  j["baseline"] = {{"model", d.baseline.spec.name()},
+                   {"params", params(d.baseline)},
+                   {"rmse_fit_N", d.baseline.rmse_force_N},
+                   {"rmse_holdout_N", opt(d.baseline_rmse_holdout_N)},
+                   {"aic", d.baseline.aic}};
+  j["finding"] = {{"cause", cause_name(d.cause)}, {"evidence", d.evidence}};
+  j["extended"] = {{"model", ext.spec.name()},
+                   {"params", params(ext)},
+                   {"rmse_fit_N", ext.rmse_force_N},
+                   {"rmse_holdout_N", opt(d.extended_holdout())},
+                   {"aic", ext.aic}};
+  json ratio = nullptr;
+  if (d.chosen < 0) {
+    ratio = 1.0;
+  } else if (d.baseline_rmse_holdout_N && d.extended_holdout()) {
+    ratio = *d.baseline_rmse_holdout_N / *d.extended_holdout();
+  }
+  j["gain"] = {{"holdout_rmse_ratio", ratio}, {"delta_aic", d.baseline.aic - ext.aic}};
+  j["candidates"] = json::array();
+  for (const auto& c : d.candidates) {
+    j["candidates"].push_back({{"cause", cause_name(c.fit.spec.extension)},
+                               {"aic", c.fit.aic},
+                               {"rmse_holdout_N", opt(c.rmse_holdout_N)}});
+  }
+  return j;
+}
+
+nlohmann::json fit_json(const FitResult& f) {
+  using nlohmann::json;
+  json p = json::array();
+  for (const auto& e : f.estimates) {
+    json q = {{"name", e.name}, {"value", e.value}};
+    if (!e.at_bound.empty()) {
+      q["at_bound"] = e.at_bound;
+      q["ci95"] = nullptr;
+    } else if (e.ci_low && e.ci_high) {
+      q["ci95"] = {*e.ci_low, *e.ci_high};
+    } else {
+      q["ci95"] = nullptr;
+      q["note"] = "not identifiable (singular information matrix)";
+    }
+    p.push_back(q);
+  }
+  return {{"model", f.spec.name()},
+          {"params", p},
+          {"rmse_fit_N", f.rmse_force_N},
+          {"rmse_per_file_N", f.rmse_per_file_N},
+          {"aic", f.aic},
+          {"n_force", f.n_force},
+          {"starts", f.starts},
+          {"iterations", f.iterations}};
+}
+
+void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
+                     const std::vector<Measurement>& fit_data,
+                     const std::vector<Measurement>& holdout, const DiagnoseOptions& options) {
+  const fs::path dir(dir_name);
+  fs::create_directories(dir);
+  const SimulationOptions& sim = options.fit.simulation;
+  const FitResult& ext = d.extended();
+  // Plot data and script.
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 1000,800 font 'sans,10'\nset grid\n";
+  std::vector<std::pair<std::string, std::string>> plots;
+  auto add = [&](const Measurement& m, const std::string& stem, const std::string& role) {
+    write_series(dir / (stem + ".dat"), m, d.baseline, ext, sim);
+    const std::string title = role + ": " + fs::path(m.source).filename().string();
+    gp << plot_commands(stem + ".dat", stem + ".png", title, d.baseline.spec.name(),
+                        ext.spec.name());
+    plots.push_back({stem + ".png", title});
+  };
+  for (std::size_t i = 0; i < fit_data.size(); ++i)
+    add(fit_data[i], "fit_" + std::to_string(i), "fit");
+  for (std::size_t i = 0; i < holdout.size(); ++i) {
+    add(holdout[i], "holdout_" + std::to_string(i), "held out");
+  }
+  write_text(dir / "plots.gp", gp.str());
+  const bool plotted = run_gnuplot(dir, "plots.gp");
+
+  nlohmann::json details = {{"mesh", d.mesh},
+                            {"noise_sigma_N", d.noise_sigma_N},
+                            {"seconds", d.seconds},
+                            {"min_delta_aic", options.min_delta_aic},
+                            {"baseline", fit_json(d.baseline)},
+                            {"candidates", nlohmann::json::array()},
+                            {"phases", nlohmann::json::array()}};
+  for (const auto& c : d.candidates) details["candidates"].push_back(fit_json(c.fit));
+  for (const auto& p : d.phases) {
+    details["phases"].push_back({{"phase", phase_name(p.phase)},
+                                 {"n", p.n},
+                                 {"rms_baseline_N", p.rms_baseline},
+                                 {"mean_baseline_N", p.mean_baseline},
+                                 {"lag1_autocorr_baseline", p.lag1_baseline},
+                                 {"rms_extended_N", p.rms_extended},
+                                 {"mean_extended_N", p.mean_extended}});
+  }
+  write_text(dir / "details.json", details.dump(2) + "\n");
+
+  const nlohmann::json j = diagnosis_json(d);
+  std::ostringstream r;
+  r << std::setprecision(4);
+  r << "# Diagnosis\n\n";
+  r << "Fit data: ";
+  for (const auto& m : fit_data) r << "`" << m.source << "` ";
+  r << "\n\nHeld-out data: ";
+  if (holdout.empty()) r << "none";
+  for (const auto& m : holdout) r << "`" << m.source << "` ";
+  r << "\n\nSpecimen model: " << d.mesh << ".\n\n";
+  r << "## Finding: `" << cause_name(d.cause) << "`\n\n" << d.evidence << "\n\n";
+  r << "| | model | fit RMSE [N] | held-out RMSE [N] | AIC |\n|---|---|---|---|---|\n";
+  auto row = [&](const char* label, const nlohmann::json& m) {
+    r << "| " << label << " | " << m["model"].get<std::string>() << " | " << m["rmse_fit_N"].dump()
+      << " | " << m["rmse_holdout_N"].dump() << " | " << m["aic"].dump() << " |\n";
+  };
+  row("baseline", j["baseline"]);
+  row("extended", j["extended"]);
+  r << "\nGain: held-out RMSE ratio " << j["gain"]["holdout_rmse_ratio"].dump() << ", AIC drop "
+    << j["gain"]["delta_aic"].dump()
+    << ". Noise level from second differences of the fit data: " << d.noise_sigma_N << " N.\n\n";
+  r << "## Candidates\n\nSelection: lowest AIC (Gaussian likelihood, noise level estimated, "
+       "n ln(RSS/n) + 2(k+1)) among candidates that lower AIC by at least "
+    << options.min_delta_aic
+    << " and, with held-out data, also lower the held-out RMSE.\n\n"
+       "| cause | AIC | AIC drop | fit RMSE [N] | held-out RMSE [N] | extra parameters |\n"
+       "|---|---|---|---|---|---|\n";
+  for (const auto& c : d.candidates) {
+    r << "| " << cause_name(c.fit.spec.extension) << " | " << c.fit.aic << " | "
+      << d.baseline.aic - c.fit.aic << " | " << c.fit.rmse_force_N << " | "
+      << (c.rmse_holdout_N ? fmt(*c.rmse_holdout_N, 4) : std::string("-")) << " | "
+      << param_list(c.fit, 3) << " |\n";
+  }
+  r << "\n## Residuals by phase (first fit file, measured - model)\n\n" << phase_table(d);
+  r << "\n## Parameters\n\n| model | parameter | value | 95 % interval |\n|---|---|---|---|\n";
+  for (const FitResult* f : {&d.baseline, &ext}) {
+    for (const auto& e : f->estimates) {
+      r << "| " << f->spec.name() << " | " << e.name << " | " << e.value << " | ";
+      if (!e.at_bound.empty())
+        r << "at " << e.at_bound << " bound (no interval)";
+      else if (e.ci_low)
+        r << "[" << *e.ci_low << ", " << *e.ci_high << "]";
+      else
+        r << "not identifiable";
+      r << " |\n";
+    }
+    if (f == &ext && d.chosen < 0) break;
+  }
+  r << "\n## Plots\n\n";
+  if (!plotted) r << "(gnuplot failed or is missing: see gnuplot.log; data in *.dat)\n\n";
+  for (const auto& [png, title] : plots) r << "![" << title << "](" << png << ")\n\n";
+  write_text(dir / "report.md", r.str());
+  // Last: the contract file, so its presence means the whole output is there.
+  write_text(dir / "diagnosis.json", j.dump(2) + "\n");
+}
+
+void write_fit(const std::string& dir_name, const FitResult& f,
+               const std::vector<Measurement>& data, const FitOptions& options) {
+  const fs::path dir(dir_name);
+  fs::create_directories(dir);
+  std::ostringstream gp;
+  gp << "set terminal pngcairo size 1000,800 font 'sans,10'\nset grid\n";
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const std::string stem = "fit_" + std::to_string(i);
+    write_series(dir / (stem + ".dat"), data[i], f, f, options.simulation);
+    gp << plot_commands(stem + ".dat", stem + ".png",
+                        "fit: " + fs::path(data[i].source).filename().string(), f.spec.name(),
+                        f.spec.name());
+  }
+  write_text(dir / "plots.gp", gp.str());
+  const bool plotted = run_gnuplot(dir, "plots.gp");
+  nlohmann::json j = fit_json(f);
+  j["mesh"] = coarse_mesh_description(data.front().geometry);
+  j["files"] = nlohmann::json::array();
+  for (const auto& m : data) j["files"].push_back(m.source);
+  j["plots"] = plotted;
+  write_text(dir / "fit.json", j.dump(2) + "\n");
+}
+
+}  // namespace rheo::identify

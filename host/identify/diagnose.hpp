@@ -1,0 +1,84 @@
+// Diagnosis of a fitted model (design.md §7): fit the baseline three-element column,
+// analyse its residuals by phase, fit every candidate extension, pick by AIC (one Gaussian
+// likelihood for all models with the noise level estimated) confirmed on held-out data,
+// and write diagnosis.json exactly as the contract says plus a report with plots.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "host/identify/fit.hpp"
+
+namespace rheo::identify {
+
+enum class Phase { kPush, kHold, kRelease, kAfterRelease };
+std::string phase_name(Phase p);
+// Phase of every sample from the plate history: push (plate moving down, or at rest before
+// the first push), hold (plate still and down), release (plate moving up), after release
+// (plate back at 0 after a push).
+std::vector<Phase> phases_of(const Measurement& m);
+
+// Noise level of a force record from its second differences (independent of any model):
+// sigma = rms(f[i+1] - 2 f[i] + f[i-1]) / sqrt(6), exact for white noise on a smooth curve.
+double noise_from_second_differences(const Measurement& m);
+
+struct DiagnoseOptions {
+  FitOptions fit;
+  // Smallest AIC drop that counts as an extension earning its parameters (Burnham and
+  // Anderson: a difference above 10 means essentially no support for the worse model).
+  double min_delta_aic = 10.0;
+  // The held-out RMSE must drop by at least this factor to confirm the pick.
+  double min_holdout_ratio = 1.0;
+};
+
+struct PhaseResiduals {
+  Phase phase;
+  int n = 0;
+  double rms_baseline = 0.0, mean_baseline = 0.0, lag1_baseline = 0.0;
+  double rms_extended = 0.0, mean_extended = 0.0;
+};
+
+struct CandidateFit {
+  FitResult fit;
+  std::optional<double> rmse_holdout_N;
+};
+
+struct Diagnosis {
+  FitResult baseline;
+  std::optional<double> baseline_rmse_holdout_N;
+  std::vector<CandidateFit> candidates;  // one per extension, in all_extensions() order
+  int chosen = -1;                       // index into candidates, -1 = none
+  Extension cause = Extension::kNone;
+  std::string evidence;
+  std::vector<PhaseResiduals> phases;  // on the (first) fit file
+  double noise_sigma_N = 0.0;          // from second differences of the fit data
+  std::string mesh;
+  double seconds = 0.0;  // wall time of the diagnosis
+  const FitResult& extended() const { return chosen < 0 ? baseline : candidates[chosen].fit; }
+  std::optional<double> extended_holdout() const {
+    return chosen < 0 ? baseline_rmse_holdout_N : candidates[chosen].rmse_holdout_N;
+  }
+};
+
+Diagnosis diagnose(const std::vector<Measurement>& fit_data,
+                   const std::vector<Measurement>& holdout, const DiagnoseOptions& options = {});
+
+// diagnosis.json exactly as design.md §7.
+nlohmann::json diagnosis_json(const Diagnosis& d);
+// Parameter estimates with intervals and bound flags (fit.json and details.json).
+nlohmann::json fit_json(const FitResult& f);
+
+// Writes DIR/diagnosis.json, DIR/details.json, DIR/report.md and the PNG plots (gnuplot).
+// Everything is written to DIR.partial first and renamed, so a failure leaves no
+// half-written output directory.
+void write_diagnosis(const std::string& dir, const Diagnosis& d,
+                     const std::vector<Measurement>& fit_data,
+                     const std::vector<Measurement>& holdout, const DiagnoseOptions& options);
+
+// Writes DIR/fit.json, DIR/fit.dat and DIR/fit.png for `rheo fit`.
+void write_fit(const std::string& dir, const FitResult& f, const std::vector<Measurement>& data,
+               const FitOptions& options);
+
+}  // namespace rheo::identify

@@ -1,0 +1,43 @@
+// Seed 002's clay experiment as a virtual experiment: the two push-hold-release protocols
+// and the identified four-element parameters (Table II, model b) mapped onto the column's
+// three-element edge plus its parallel Maxwell arm.
+#pragma once
+
+#include <cstdint>
+
+#include "host/identify/measurement.hpp"
+#include "host/identify/specimen.hpp"
+
+namespace rheo::identify {
+
+// Seed 002, Table II (model b): identified four-element parameters.
+struct FourElementB {
+  double E1 = 5.8388e4;  // [Pa]
+  double E2 = 1.2353e5;  // [Pa]
+  double c1 = 2.1091e7;  // [Pa s]
+  double c2 = 8.3402e5;  // [Pa s]
+};
+
+// Model (b)'s law s'' + A1 s' + A0 s = B1 e'' + B0 e' (Table I) has relaxation modulus
+// G(t) = g_slow exp(-t/tau_slow) + g_fast exp(-t/tau_fast) with rates the roots of
+// r^2 - A1 r + A0 and g_slow + g_fast = B1, g_slow/tau_slow + g_fast/tau_fast = B0: two
+// Maxwell arms in parallel. The slow arm goes to the three-element edge (E1 = g_slow,
+// c1 + c2 = g_slow tau_slow, with a small Voigt viscosity c1 = voigt_share (c1 + c2) that
+// only sets how fast the elastic recovery after release is), the fast arm to the parallel
+// Maxwell arm (E2 = g_fast, c3 = g_fast tau_fast).
+struct TwoArms {
+  double g_slow, tau_slow, g_fast, tau_fast;
+};
+TwoArms relaxation_arms(const FourElementB& b);
+SpecimenParams clay_column_params(const FourElementB& b, double voigt_share = 1e-3);
+
+// Plate history sampled at `rate_hz`: push at push_speed to depth, hold, retract at
+// release_speed to 0, then stay for after_s. force_N is zero and surface_mm empty.
+Measurement push_hold_release(const Geometry& g, double depth_mm, double push_speed_mm_s,
+                              double hold_s, double release_speed_mm_s, double after_s,
+                              double rate_hz);
+
+// Adds Gaussian load-cell noise (sigma_N) and quantisation (resolution_N) to force_N.
+void add_load_cell_noise(Measurement& m, double sigma_N, double resolution_N, std::uint32_t seed);
+
+}  // namespace rheo::identify
