@@ -10,5 +10,6 @@ void register_fit(CLI::App& app);
 void register_diagnose(CLI::App& app);
 void register_scenarios(CLI::App& app);
 void register_synth(CLI::App& app);
+void register_cosim(CLI::App& app);
 
 }  // namespace rheo::cli

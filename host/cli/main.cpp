@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   rheo::cli::register_diagnose(app);
   rheo::cli::register_scenarios(app);
   rheo::cli::register_synth(app);
+  rheo::cli::register_cosim(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

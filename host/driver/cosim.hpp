@@ -1,0 +1,57 @@
+// Cosimulation: the RTL core (Verilator) and the bit-true model run on identical frames;
+// every plate-force word and every particle state word is compared for equality; the
+// double reference model runs alongside on the same (hardware-feature) model to measure
+// the fixed-point error.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "sim/scenario.hpp"
+
+namespace rheo::driver {
+
+struct CosimOptions {
+  long steps = 1000;
+  int lanes = 1;
+  std::string trace_fst;           // empty: no waveform
+  int compare_every = 1;           // read and compare the RTL particle state every K steps
+  double input_idle_prob = 0.0;    // random idle cycles on s_axis
+  double output_stall_prob = 0.0;  // random back-pressure on m_axis
+  std::uint64_t seed = 1;
+  bool run_reference = true;
+  std::function<void(long step)> progress;  // called after each batch (may be empty)
+};
+
+struct CosimMismatch {
+  long step = 0;
+  int particle = -1;  // -1: the plate-force word
+  std::string field;
+  std::int64_t rtl = 0, bittrue = 0;
+  std::string describe() const;
+};
+
+struct CosimResult {
+  long steps = 0;
+  long mismatches = 0;  // words that differed (the run stops at the first mismatching step)
+  std::vector<CosimMismatch> first;  // first mismatches (at most 10)
+  double max_pos_err_rel = 0.0;      // max |x_fixed - x_ref| / object size over the run
+  double rms_pos_err_rel = 0.0;      // RMS of the same over particles and compared steps
+  double final_max_pos_err_rel = 0.0;
+  double max_force_err_rel = 0.0;  // max |F_fixed - F_ref| / max |F_ref|
+  double max_force_ref_N = 0.0;
+  double cycles_per_step_measured = 0.0;
+  long cycles_per_step_formula = 0;
+  double sim_cycles_per_s = 0.0;
+  std::uint64_t sim_cycles = 0;
+  int particles = 0, edges = 0, gather_rows = 0, lanes = 0;
+  double length_unit_m = 0.0, force_unit_N = 0.0, dt_s = 0.0;
+  std::vector<std::string> dropped_features;
+  std::vector<double> force_fixed_N, force_ref_N;  // per step
+};
+
+CosimResult run_cosim(const Scenario& scenario, const CosimOptions& options);
+
+}  // namespace rheo::driver
