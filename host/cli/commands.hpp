@@ -11,5 +11,6 @@ void register_diagnose(CLI::App& app);
 void register_scenarios(CLI::App& app);
 void register_synth(CLI::App& app);
 void register_cosim(CLI::App& app);
+void register_cosim_server(CLI::App& app);
 
 }  // namespace rheo::cli

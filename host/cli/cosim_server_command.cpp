@@ -1,0 +1,99 @@
+// `rheo cosim-server --socket PATH [--lanes L]`: the RTL core (Verilator) in its own process
+// behind a Unix-domain socket, speaking the link frames (docs/transport.md) a board would.
+// Serves one host at a time, each with a freshly reset core, until a host sends shutdown or
+// the process gets SIGINT/SIGTERM; the socket file is removed on the way out.
+#include <atomic>
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "host/cli/commands.hpp"
+#include "host/driver/bittrue_transport.hpp"
+#include "host/driver/link/cosim_server.hpp"
+#include "host/driver/link/socket_transport.hpp"
+#include "sim/error.hpp"
+#ifdef RHEO_HAVE_RTL
+#include "host/driver/verilator_transport.hpp"
+#endif
+
+namespace rheo::cli {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_stop_signal(int) { g_stop = true; }
+
+struct CosimServerArgs {
+  std::string socket;
+  int lanes = 1;
+  std::string core = "rtl";
+  int timeout_ms = 10000;
+  bool quiet = false;
+};
+
+link::CoreFactory core_factory(const CosimServerArgs& args) {
+  if (args.core == "bittrue") {
+    return [lanes = args.lanes] { return std::make_unique<driver::BitTrueTransport>(lanes); };
+  }
+#ifdef RHEO_HAVE_RTL
+  return [lanes = args.lanes] {
+    driver::VerilatorOptions options;
+    options.lanes = lanes;
+    return std::make_unique<driver::VerilatorTransport>(options);
+  };
+#else
+  throw Error(
+      "cosim-server: this build has no Verilator model (RHEO_WITH_RTL=OFF); "
+      "use --core bittrue");
+#endif
+}
+
+void run_cosim_server(const CosimServerArgs& args) {
+  const link::CoreFactory make_core = core_factory(args);
+  link::SocketListener listener(args.socket);
+  g_stop = false;
+  auto old_int = std::signal(SIGINT, on_stop_signal);
+  auto old_term = std::signal(SIGTERM, on_stop_signal);
+  link::ServerOptions options;
+  options.lanes = static_cast<std::uint32_t>(args.lanes);
+  options.io_timeout = link::Milliseconds(args.timeout_ms);
+  options.stop = &g_stop;
+  if (!args.quiet) {
+    options.log = [](const std::string& line) {
+      std::cerr << "rheo cosim-server: " << line << "\n";
+    };
+    std::cerr << "rheo cosim-server: listening on " << args.socket << " (" << args.core << " core, "
+              << args.lanes << " lane" << (args.lanes == 1 ? "" : "s") << ")\n";
+  }
+  link::serve(listener, make_core, options);
+  std::signal(SIGINT, old_int);
+  std::signal(SIGTERM, old_term);
+  if (!args.quiet) std::cerr << "rheo cosim-server: stopped\n";
+}
+
+}  // namespace
+
+void register_cosim_server(CLI::App& app) {
+  auto args = std::make_shared<CosimServerArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "cosim-server",
+      "Run the RTL core (Verilator) in this process behind a Unix-domain socket; hosts connect\n"
+      "with --backend remote:PATH and talk to it in link frames (header, sequence, CRC-32),\n"
+      "as they would to a board. Serves hosts one after another until one sends shutdown or\n"
+      "SIGINT/SIGTERM arrives.");
+  cmd->add_option("--socket", args->socket, "Path of the Unix-domain socket to listen on")
+      ->required();
+  cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of the core")
+      ->check(CLI::IsMember({1, 2}));
+  cmd->add_option("--core", args->core,
+                  "Core behind the socket: rtl (Verilator, default) or bittrue (the bit-true "
+                  "model, for link tests without Verilator)")
+      ->check(CLI::IsMember({"rtl", "bittrue"}));
+  cmd->add_option("--timeout-ms", args->timeout_ms,
+                  "Longest wait for a hello or for the rest of a begun frame")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--quiet", args->quiet, "No session log on stderr");
+  cmd->callback([args] { run_cosim_server(*args); });
+}
+
+}  // namespace rheo::cli

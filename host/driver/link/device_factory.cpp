@@ -1,0 +1,56 @@
+#include "host/driver/link/device_factory.hpp"
+
+#include "host/driver/bittrue_transport.hpp"
+#include "host/driver/link/remote_transport.hpp"
+#include "sim/error.hpp"
+#ifdef RHEO_HAVE_RTL
+#include "host/driver/verilator_transport.hpp"
+#endif
+
+namespace rheo::link {
+namespace {
+constexpr std::string_view kRemotePrefix = "remote:";
+}
+
+bool is_device_backend(const std::string& backend) {
+  return backend == "bittrue" || backend == "rtl" ||
+         (backend.starts_with(kRemotePrefix) && backend.size() > kRemotePrefix.size());
+}
+
+Backend make_device(const std::string& backend, const BackendOptions& options) {
+  Backend out;
+  if (backend == "bittrue") {
+    out.device =
+        std::make_unique<driver::Device>(std::make_unique<driver::BitTrueTransport>(options.lanes));
+    out.lanes = options.lanes;
+  } else if (backend == "rtl") {
+#ifdef RHEO_HAVE_RTL
+    driver::VerilatorOptions vo;
+    vo.lanes = options.lanes;
+    vo.trace_fst = options.trace_fst;
+    out.device = std::make_unique<driver::Device>(std::make_unique<driver::VerilatorTransport>(vo));
+    out.lanes = options.lanes;
+#else
+    throw Error(
+        "--backend rtl: this build has no Verilator model (configured with "
+        "RHEO_WITH_RTL=OFF); use bittrue or remote:PATH");
+#endif
+  } else if (backend.starts_with(kRemotePrefix) && backend.size() > kRemotePrefix.size()) {
+    auto remote =
+        RemoteTransport::connect_socket(backend.substr(kRemotePrefix.size()), options.timeout);
+    out.lanes = static_cast<int>(remote->client().peer_info().lanes);
+    out.device = std::make_unique<driver::Device>(std::move(remote));
+  } else if (backend == "ref") {
+    throw Error(
+        "--backend ref is the double reference model, not a fixed-point device; "
+        "the command runs it directly");
+  } else {
+    throw Error("--backend '" + backend +
+                "': expected ref, bittrue, rtl or remote:PATH (PATH = socket of rheo "
+                "cosim-server)");
+  }
+  out.name = out.device->transport().name();
+  return out;
+}
+
+}  // namespace rheo::link

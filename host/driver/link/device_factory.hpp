@@ -1,0 +1,34 @@
+// One place that turns a --backend value into a Device, for every subcommand that runs a
+// model on the hardware path:
+//   bittrue        the bit-true fixed-point model, in process
+//   rtl            the verilated RTL core, in process (builds with RHEO_WITH_RTL only)
+//   remote:PATH    the RTL core in `rheo cosim-server --socket PATH`, over the link
+// "ref" (the double reference model) is not a Device: it does not take the fixed-point
+// image or command words, so commands run it directly; here it is refused with that reason.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "host/driver/device.hpp"
+#include "host/driver/link/byte_transport.hpp"
+
+namespace rheo::link {
+
+struct BackendOptions {
+  int lanes = 1;          // in-process cores; a remote core reports its own
+  std::string trace_fst;  // rtl only
+  Milliseconds timeout{10000};
+};
+
+struct Backend {
+  std::unique_ptr<driver::Device> device;
+  int lanes = 1;  // lanes of the core behind the device (build the image for these)
+  std::string name;
+};
+
+// Throws rheo::Error for an unknown backend, naming the accepted values.
+Backend make_device(const std::string& backend, const BackendOptions& options = {});
+bool is_device_backend(const std::string& backend);
+
+}  // namespace rheo::link

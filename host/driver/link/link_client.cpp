@@ -1,0 +1,140 @@
+#include "host/driver/link/link_client.hpp"
+
+#include <chrono>
+
+#include "host/driver/link/link_error.hpp"
+
+namespace rheo::link {
+namespace {
+
+// How often the reader thread looks at the stop flag while the link is quiet.
+constexpr Milliseconds kReaderSlice{50};
+
+}  // namespace
+
+LinkClient::LinkClient(std::unique_ptr<ByteTransport> transport, std::string peer,
+                       Milliseconds timeout)
+    : transport_(std::move(transport)), channel_(*transport_, std::move(peer)), timeout_(timeout) {
+  const std::uint32_t hello[] = {kLinkProtocol, 0, kMaxPayloadBytes};
+  channel_.send_words(FrameType::kHello, hello, timeout_);
+  const Frame reply = channel_.receive(timeout_);
+  if (reply.type == FrameType::kError) {
+    throw LinkError(LinkFault::kRemoteError,
+                    channel_.peer() + " refused the session: " + reply.text());
+  }
+  const auto words = reply.words();
+  if (reply.type != FrameType::kHello || words.size() < 3) {
+    throw LinkError(LinkFault::kProtocol, "expected a hello frame of 3 words from " +
+                                              channel_.peer() + ", got a " + to_string(reply.type) +
+                                              " frame of " + std::to_string(words.size()) +
+                                              " words");
+  }
+  peer_info_ = {words[0], words[1], words[2]};
+  if (peer_info_.protocol != kLinkProtocol) {
+    throw LinkError(LinkFault::kProtocol, channel_.peer() + " speaks link protocol " +
+                                              std::to_string(peer_info_.protocol) + ", expected " +
+                                              std::to_string(kLinkProtocol));
+  }
+  reader_ = std::thread([this] { reader_loop(); });
+}
+
+LinkClient::~LinkClient() {
+  stopping_ = true;
+  if (reader_.joinable()) reader_.join();
+}
+
+void LinkClient::reader_loop() {
+  try {
+    while (!stopping_) {
+      auto frame = channel_.try_receive(kReaderSlice);
+      bytes_received_ = channel_.bytes_received();
+      frames_received_ = channel_.frames_received();
+      partial_frame_bytes_ = channel_.partial_frame_bytes();
+      if (!frame) continue;
+      if (frame->type == FrameType::kError) {
+        throw LinkError(LinkFault::kRemoteError, channel_.peer() + " reported: " + frame->text());
+      }
+      if (frame->type != FrameType::kResponse) {
+        throw LinkError(LinkFault::kProtocol, "expected a response frame from " + channel_.peer() +
+                                                  ", got a " + to_string(frame->type) + " frame");
+      }
+      const auto words = frame->words();
+      {
+        std::lock_guard lock(mutex_);
+        responses_.insert(responses_.end(), words.begin(), words.end());
+      }
+      arrived_.notify_all();
+    }
+  } catch (...) {
+    {
+      std::lock_guard lock(mutex_);
+      failure_ = std::current_exception();
+    }
+    arrived_.notify_all();
+  }
+}
+
+void LinkClient::rethrow_if_failed() {
+  std::lock_guard lock(mutex_);
+  if (failure_) std::rethrow_exception(failure_);
+}
+
+void LinkClient::send(std::span<const std::uint32_t> words) {
+  rethrow_if_failed();
+  for (std::uint32_t w : words) owed_words_ += tracker_.accept(w);
+  command_words_ += words.size();
+  try {
+    channel_.send_words(FrameType::kCommand, words, timeout_);
+  } catch (const LinkError&) {
+    // A send that fails because the server died is best explained by what the reader saw.
+    std::this_thread::sleep_for(2 * kReaderSlice);
+    rethrow_if_failed();
+    throw;
+  }
+}
+
+void LinkClient::receive(std::span<std::uint32_t> out) {
+  if (out.size() > owed_words_) {
+    throw LinkError(LinkFault::kProtocol, "asked for " + std::to_string(out.size()) +
+                                              " response words but the commands sent owe only " +
+                                              std::to_string(owed_words_));
+  }
+  std::size_t done = 0;
+  std::unique_lock lock(mutex_);
+  while (done < out.size()) {
+    const bool ready =
+        arrived_.wait_for(lock, timeout_, [&] { return failure_ || !responses_.empty(); });
+    if (failure_ && responses_.empty()) std::rethrow_exception(failure_);
+    if (!ready) {
+      const std::size_t partial = partial_frame_bytes_;
+      throw LinkError(
+          partial > 0 ? LinkFault::kTruncated : LinkFault::kTimeout,
+          "no response word from " + channel_.peer() + " for " + std::to_string(timeout_.count()) +
+              " ms (" + std::to_string(done) + " of " + std::to_string(out.size()) +
+              " words received" +
+              (partial > 0 ? ", stalled after " + std::to_string(partial) + " bytes of a frame)"
+                           : ")"));
+    }
+    while (done < out.size() && !responses_.empty()) {
+      out[done++] = responses_.front();
+      responses_.pop_front();
+    }
+  }
+  owed_words_ -= out.size();
+  response_words_ += out.size();
+}
+
+void LinkClient::shutdown_server() { channel_.send_words(FrameType::kShutdown, {}, timeout_); }
+
+LinkStats LinkClient::stats() const {
+  LinkStats s;
+  s.bytes_sent = channel_.bytes_sent();
+  s.frames_sent = channel_.frames_sent();
+  s.bytes_received = bytes_received_;
+  s.frames_received = frames_received_;
+  s.command_words = command_words_;
+  s.response_words = response_words_;
+  return s;
+}
+
+}  // namespace rheo::link

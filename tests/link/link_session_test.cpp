@@ -1,0 +1,361 @@
+// The link end to end inside one process: a server thread (serve_session with the bit-true
+// core) on one end of a socket pair, a RemoteTransport on the other, optionally through a
+// fault-injecting wrapper. Fast and Verilator-free, so it runs under the sanitizers too.
+#include <sys/socket.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+
+#include "host/driver/bittrue_transport.hpp"
+#include "host/driver/device.hpp"
+#include "host/driver/frame_format.hpp"
+#include "host/driver/link/cosim_server.hpp"
+#include "host/driver/link/frame_channel.hpp"
+#include "host/driver/link/link_error.hpp"
+#include "host/driver/link/remote_transport.hpp"
+#include "host/driver/link/socket_transport.hpp"
+#include "host/driver/link/streaming_run.hpp"
+#include "sim/scenario.hpp"
+#include "tests/link/fault_transport.hpp"
+
+namespace rheo::link {
+namespace {
+
+using testing::FaultyByteTransport;
+using testing::ReceiveFault;
+
+// Long enough for a loaded CI machine to answer a small block's chunk, short enough that the
+// timeout test finishes quickly.
+constexpr Milliseconds kTestTimeout{3000};
+constexpr Milliseconds kShortTimeout{300};
+constexpr int kLanes = 2;
+constexpr std::uint64_t kSteps = 300;
+// The server's hello frame: header, three words, CRC.
+constexpr std::uint64_t kHelloBytes = kHeaderBytes + 12 + kTrailerBytes;
+
+// block5 pushed along its own protocol (the first 300 steps load it without saturating).
+constexpr double kTimeScale = 1.0;
+struct Workload {
+  Scenario scenario = load_scenario("block5");
+  Model model = scenario.build_model();
+  driver::CoreImage image =
+      driver::make_core_image(model, initial_state(model), scenario.options.dt, kLanes);
+
+  std::int32_t plate_word(std::uint64_t step) const {
+    const double t = double(step + 1) * scenario.options.dt * kTimeScale;
+    const double z = model.height - scenario.protocol.displacement_mm(t) * 1e-3;
+    return static_cast<std::int32_t>(driver::to_x_word(z, image, "plate height"));
+  }
+  std::vector<std::int32_t> plate_words(std::uint64_t first, std::uint64_t n) const {
+    std::vector<std::int32_t> w;
+    for (std::uint64_t s = first; s < first + n; ++s) w.push_back(plate_word(s));
+    return w;
+  }
+};
+
+const Workload& workload() {
+  static const Workload w;
+  return w;
+}
+
+// A server thread on one end of a socket pair; the host end is handed out once.
+class ServerThread {
+ public:
+  explicit ServerThread(ReceiveFault fault = {}) {
+    int fds[2];
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) throw Error("socketpair");
+    host_end_ = std::make_unique<FaultyByteTransport>(
+        std::make_unique<SocketTransport>(fds[0], "socket pair (host end)"), fault);
+    server_end_ = std::make_unique<SocketTransport>(fds[1], "socket pair (server end)");
+    options_.lanes = kLanes;
+    options_.io_timeout = kTestTimeout;
+    options_.stop = &stop_;
+    thread_ = std::thread([this] {
+      end_ = serve_session(
+          *server_end_, [] { return std::make_unique<driver::BitTrueTransport>(kLanes); },
+          options_);
+    });
+  }
+  ~ServerThread() {
+    stop_ = true;
+    thread_.join();
+  }
+  std::unique_ptr<ByteTransport> take_host_end() { return std::move(host_end_); }
+
+ private:
+  std::atomic<bool> stop_{false};
+  ServerOptions options_;
+  std::unique_ptr<ByteTransport> host_end_;
+  std::unique_ptr<SocketTransport> server_end_;
+  SessionEnd end_ = SessionEnd::kFault;
+  std::thread thread_;
+};
+
+std::unique_ptr<driver::Device> remote_device(ServerThread& server,
+                                              Milliseconds timeout = kTestTimeout) {
+  return std::make_unique<driver::Device>(
+      std::make_unique<RemoteTransport>(server.take_host_end(), "test server", timeout));
+}
+
+TEST(CommandTracker, CountsTheResponseWordsEachCommandOwes) {
+  CommandTracker t;
+  std::uint64_t owed = 0;
+  const std::uint32_t words[] = {frame::header(frame::kOpWrite, frame::kRegionEdge, 2),
+                                 5,
+                                 1,
+                                 2,
+                                 3,
+                                 4,
+                                 5,
+                                 6,
+                                 7,
+                                 8,
+                                 frame::header(frame::kOpRun, frame::kRegionGlobals, 3),
+                                 10,
+                                 11,
+                                 12,
+                                 frame::header(frame::kOpRead, frame::kRegionParticleState, 4),
+                                 0,
+                                 frame::header(frame::kOpStatus, frame::kRegionGlobals, 0)};
+  for (std::uint32_t w : words) owed += t.accept(w);
+  EXPECT_EQ(owed, 3u + 4u * 6u + frame::kStatusWords);
+  EXPECT_TRUE(t.at_command_boundary());
+}
+
+TEST(CommandTracker, RejectsAnUnknownOpcodeBeforeItReachesTheCore) {
+  CommandTracker t;
+  try {
+    t.accept(0xF0000000u);
+    FAIL() << "accepted opcode 15";
+  } catch (const LinkError& e) {
+    EXPECT_EQ(e.fault(), LinkFault::kProtocol);
+  }
+}
+
+TEST(RemoteDevice, GivesBitIdenticalForcesAndStateToTheInProcessBitTrueDevice) {
+  const Workload& w = workload();
+  driver::Device local(std::make_unique<driver::BitTrueTransport>(kLanes));
+  local.load(w.image);
+  ServerThread server;
+  auto remote = remote_device(server);
+  remote->load(w.image);
+  const auto plates = w.plate_words(0, kSteps);
+  const auto local_forces = local.run(plates);
+  EXPECT_EQ(remote->run(plates), local_forces);
+  EXPECT_NE(local_forces.back(), 0) << "the plate should have loaded the block";
+  EXPECT_EQ(remote->read_particle_state(0, w.image.num_particles),
+            local.read_particle_state(0, w.image.num_particles));
+  EXPECT_EQ(remote->read_status(false).step_count, kSteps);
+}
+
+TEST(StreamingRun, MatchesOneBigRunAndReturnsTheStateEveryKSteps) {
+  const Workload& w = workload();
+  constexpr std::uint64_t kStateEvery = 64;
+  driver::Device local(std::make_unique<driver::BitTrueTransport>(kLanes));
+  local.load(w.image);
+  std::vector<std::vector<std::int32_t>> local_states;
+  std::vector<std::int32_t> local_forces;
+  for (std::uint64_t s = 0; s < kSteps; s += kStateEvery) {
+    const std::uint64_t n = std::min(kStateEvery, kSteps - s);
+    const auto f = local.run(w.plate_words(s, n));
+    local_forces.insert(local_forces.end(), f.begin(), f.end());
+    if (n == kStateEvery)
+      local_states.push_back(local.read_particle_state(0, w.image.num_particles));
+  }
+
+  ServerThread server;
+  auto remote = remote_device(server);
+  remote->load(w.image);
+  StreamingOptions o;
+  o.steps = kSteps;
+  o.num_particles = w.image.num_particles;
+  o.state_every = kStateEvery;
+  o.window_steps = 100;
+  o.chunk_steps = 25;
+  std::vector<std::int32_t> forces;
+  std::vector<std::uint64_t> state_steps;
+  std::vector<std::vector<std::int32_t>> states;
+  const StreamingTotals totals =
+      run_streaming(remote->transport(), o,
+                    {[&](std::uint64_t s) { return w.plate_word(s); },
+                     [&](std::uint64_t s, std::int32_t f) {
+                       EXPECT_EQ(s, forces.size());
+                       forces.push_back(f);
+                     },
+                     [&](std::uint64_t done, std::span<const std::int32_t> st) {
+                       state_steps.push_back(done);
+                       states.emplace_back(st.begin(), st.end());
+                     }});
+  EXPECT_EQ(forces, local_forces);
+  EXPECT_EQ(states, local_states);
+  EXPECT_EQ(state_steps, (std::vector<std::uint64_t>{64, 128, 192, 256}));
+  EXPECT_EQ(totals.steps, kSteps);
+  EXPECT_EQ(totals.state_reads, 4u);
+}
+
+// An in-process transport that records how many steps were sent but not yet answered.
+class WindowProbe : public driver::Transport {
+ public:
+  explicit WindowProbe(int lanes) : inner_(lanes) {}
+  void send(const std::vector<std::uint32_t>& words) override {
+    for (std::uint32_t w : words) {
+      if (tracker_.accept(w) == 1) ++steps_in_flight_;
+    }
+    max_in_flight_ = std::max(max_in_flight_, steps_in_flight_);
+    inner_.send(words);
+  }
+  std::vector<std::uint32_t> receive(std::size_t n) override { return inner_.receive(n); }
+  std::string name() const override { return "window probe"; }
+  void forces_received(std::uint64_t n) { steps_in_flight_ -= n; }
+  std::uint64_t max_in_flight() const { return max_in_flight_; }
+
+ private:
+  driver::BitTrueTransport inner_;
+  link::CommandTracker tracker_;
+  std::uint64_t steps_in_flight_ = 0, max_in_flight_ = 0;
+};
+
+TEST(StreamingRun, NeverHasMoreStepsInFlightThanTheWindow) {
+  const Workload& w = workload();
+  driver::Device device(std::make_unique<WindowProbe>(kLanes));
+  device.load(w.image);
+  auto& probe = static_cast<WindowProbe&>(device.transport());
+  StreamingOptions o;
+  o.steps = kSteps;
+  o.window_steps = 40;
+  o.chunk_steps = 16;
+  std::uint64_t delivered = 0;
+  run_streaming(probe, o,
+                {[&](std::uint64_t s) { return w.plate_word(s); },
+                 [&](std::uint64_t, std::int32_t) {
+                   ++delivered;
+                   probe.forces_received(1);
+                 },
+                 nullptr});
+  EXPECT_EQ(delivered, kSteps);
+  EXPECT_LE(probe.max_in_flight(), o.window_steps);
+  EXPECT_GT(probe.max_in_flight(), o.chunk_steps) << "the window should let chunks overlap";
+}
+
+// Runs a streaming run of block5 through a damaged link; returns the fault it raised and how
+// many forces were delivered before it.
+struct FaultOutcome {
+  std::optional<LinkFault> fault;
+  std::string message;
+  std::uint64_t forces_delivered = 0;
+};
+
+FaultOutcome run_with_fault(ReceiveFault fault, Milliseconds timeout = kTestTimeout,
+                            bool overflow = false) {
+  const Workload& w = workload();
+  FaultOutcome out;
+  ServerThread server(fault);
+  try {
+    auto device = remote_device(server, timeout);
+    device->load(w.image);
+    if (overflow) {  // gravity far beyond the momentum range: p saturates within a step
+      device->transport().send({frame::header(frame::kOpWrite, frame::kRegionGlobals, 1),
+                                frame::kGlobalGravityZ, 0x80000000u});
+    }
+    StreamingOptions o;
+    o.steps = kSteps;
+    o.chunk_steps = 20;
+    o.window_steps = 60;
+    run_streaming(device->transport(), o,
+                  {[&](std::uint64_t s) { return w.plate_word(s); },
+                   [&](std::uint64_t, std::int32_t) { ++out.forces_delivered; }, nullptr});
+  } catch (const LinkError& e) {
+    out.fault = e.fault();
+    out.message = e.what();
+  }
+  return out;
+}
+
+TEST(LinkFaults, CorruptedByteIsReportedAsBadCrcAndNoLaterForceIsDelivered) {
+  const FaultOutcome o = run_with_fault({ReceiveFault::Kind::kFlipByte, kHelloBytes + 30});
+  ASSERT_TRUE(o.fault.has_value());
+  EXPECT_EQ(*o.fault, LinkFault::kBadCrc) << o.message;
+  EXPECT_EQ(o.forces_delivered, 0u);
+}
+
+TEST(LinkFaults, StreamCutInsideAFrameIsReportedAsTruncated) {
+  const FaultOutcome o = run_with_fault({ReceiveFault::Kind::kCutStream, kHelloBytes + 30});
+  ASSERT_TRUE(o.fault.has_value());
+  EXPECT_EQ(*o.fault, LinkFault::kTruncated) << o.message;
+  EXPECT_NE(o.message.find("closed the connection"), std::string::npos) << o.message;
+}
+
+TEST(LinkFaults, StreamEndingBetweenFramesIsReportedAsConnectionClosed) {
+  const FaultOutcome o = run_with_fault({ReceiveFault::Kind::kCutStream, kHelloBytes});
+  ASSERT_TRUE(o.fault.has_value());
+  EXPECT_EQ(*o.fault, LinkFault::kClosed) << o.message;
+}
+
+TEST(LinkFaults, LostFrameIsReportedAsSequenceGap) {
+  ReceiveFault fault;
+  fault.kind = ReceiveFault::Kind::kDropFrame;
+  fault.frame_index = 2;  // hello, load status, then the first chunk's answer
+  const FaultOutcome o = run_with_fault(fault);
+  ASSERT_TRUE(o.fault.has_value());
+  EXPECT_EQ(*o.fault, LinkFault::kSequenceGap) << o.message;
+  EXPECT_NE(o.message.find("expected sequence number 2, got 3"), std::string::npos) << o.message;
+}
+
+TEST(LinkFaults, SilentDeviceIsReportedAsTimeout) {
+  const FaultOutcome o =
+      run_with_fault({ReceiveFault::Kind::kGoSilent, kHelloBytes}, kShortTimeout);
+  ASSERT_TRUE(o.fault.has_value());
+  EXPECT_EQ(*o.fault, LinkFault::kTimeout) << o.message;
+}
+
+TEST(LinkFaults, DeviceStallingInsideAFrameIsReportedAsTruncated) {
+  const FaultOutcome o =
+      run_with_fault({ReceiveFault::Kind::kGoSilent, kHelloBytes + 30}, kShortTimeout);
+  ASSERT_TRUE(o.fault.has_value());
+  EXPECT_EQ(*o.fault, LinkFault::kTruncated) << o.message;
+  EXPECT_NE(o.message.find("stalled"), std::string::npos) << o.message;
+}
+
+TEST(LinkFaults, CoreOverflowFlagsAreReportedAndTheChunkIsNotDelivered) {
+  const FaultOutcome o = run_with_fault({}, kTestTimeout, /*overflow=*/true);
+  ASSERT_TRUE(o.fault.has_value());
+  EXPECT_EQ(*o.fault, LinkFault::kDeviceOverflow) << o.message;
+  EXPECT_NE(o.message.find("saturated"), std::string::npos) << o.message;
+  EXPECT_EQ(o.forces_delivered, 0u);
+}
+
+TEST(LinkFaults, HostReportsTheServersErrorFrameWhenItSendsGarbage) {
+  ServerThread server;
+  auto transport = server.take_host_end();
+  ByteTransport& raw = *transport;
+  RemoteTransport remote(std::move(transport), "test server", kTestTimeout);
+  // A frame with a valid header and a wrong CRC, sent below the client's framing.
+  auto bad = encode_word_frame(FrameType::kCommand, 1, std::vector<std::uint32_t>{1, 2});
+  bad[bad.size() - 1] ^= 0xFF;
+  raw.send(bad, kTestTimeout);
+  try {
+    remote.receive(0);
+    remote.client().send(
+        std::vector<std::uint32_t>{frame::header(frame::kOpStatus, frame::kRegionGlobals, 0)});
+    remote.receive(frame::kStatusWords);
+    FAIL() << "no error";
+  } catch (const LinkError& e) {
+    EXPECT_TRUE(e.fault() == LinkFault::kRemoteError || e.fault() == LinkFault::kClosed)
+        << e.what();
+    if (e.fault() == LinkFault::kRemoteError) {
+      EXPECT_NE(std::string(e.what()).find("bad CRC"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(LinkFaults, HostProcessCanStartANewSessionAfterAFault) {
+  ASSERT_TRUE(run_with_fault({ReceiveFault::Kind::kFlipByte, kHelloBytes + 30}).fault);
+  const FaultOutcome clean = run_with_fault({});
+  EXPECT_FALSE(clean.fault.has_value()) << clean.message;
+  EXPECT_EQ(clean.forces_delivered, kSteps);
+}
+
+}  // namespace
+}  // namespace rheo::link
