@@ -17,12 +17,19 @@ if {[info exists ::env(RHEO_PARAMS)]} { set params $::env(RHEO_PARAMS) }
 
 foreach src $::env(RHEO_SOURCES) { read_verilog -sv $rtl_dir/$src }
 
-# Parameters are set on the top before elaboration (chparam), one per assignment.
-hierarchy -top $top
-foreach assignment $params {
-  set kv [split $assignment =]
-  chparam -set [lindex $kv 0] [lindex $kv 1] $top
+# Parameters are set on the parsed top before elaboration (chparam, then hierarchy);
+# `hierarchy -chparam` trips an internal assertion of Yosys 0.23 on the core.
+if {[llength $params] > 0} {
+  set chparam_args {}
+  foreach assignment $params {
+    set kv [split $assignment =]
+    lappend chparam_args -set [lindex $kv 0] [lindex $kv 1]
+  }
+  chparam {*}$chparam_args $top
 }
+hierarchy -top $top
+# chparam derives "$paramod\<top>\..."; give the top its plain name back for synth_xilinx.
+yosys rename -top $top
 
 # -flatten: one netlist, so the longest path crosses module boundaries.
 # -ise: netlist conventions ISE expects (inverters as INV cells).

@@ -11,6 +11,7 @@ void register_diagnose(CLI::App& app);
 void register_scenarios(CLI::App& app);
 void register_synth(CLI::App& app);
 void register_cosim(CLI::App& app);
+void register_fixed(CLI::App& app);
 void register_cosim_server(CLI::App& app);
 
 }  // namespace rheo::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   rheo::cli::register_scenarios(app);
   rheo::cli::register_synth(app);
   rheo::cli::register_cosim(app);
+  rheo::cli::register_fixed(app);
   rheo::cli::register_cosim_server(app);
   try {
     app.parse(argc, argv);

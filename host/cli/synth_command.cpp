@@ -38,13 +38,20 @@ constexpr double kTargetPeakFraction = 0.5;
 // The reference model is timed for at least this long per scenario, so the figure is
 // not dominated by timer resolution or a cold cache.
 constexpr double kReferenceTimingSeconds = 1.0;
+// rtl/rheo_core.sv accepts Lanes 1..4 (hls::kMaxLanes).
+constexpr int kMaxCoreLanes = 4;
+// The core is synthesised at this capacity (block5 fits): its memories at the default
+// capacity (4096 particles, 65536 edges) would take Yosys far too long on this machine;
+// RAMB16 at full capacity comes from the analytic model instead.
+const std::vector<std::string> kCoreCapacityParams = {"MaxParticles=256", "MaxEdges=2048",
+                                                      "MaxGather=4096"};
 
 struct Options {
   int lanes = 2;
   std::string out;
   std::vector<std::string> designs{"tem", "mpm", "core"};
-  std::vector<std::string> core_params;
   std::string core_top = "rheo_core";
+  synth::Capacity core_capacity{256, 2048, 4096};
   bool time_reference = true;
 };
 
@@ -148,7 +155,7 @@ void run(const Options& opt) {
       std::sort(others.begin(), others.end());
       spec.sources.insert(spec.sources.end(), others.begin(), others.end());
       spec.params = {"Lanes=" + std::to_string(opt.lanes)};
-      spec.params.insert(spec.params.end(), opt.core_params.begin(), opt.core_params.end());
+      spec.params.insert(spec.params.end(), kCoreCapacityParams.begin(), kCoreCapacityParams.end());
     } else {
       throw Error("synth: unknown design '" + label + "'; expected tem, mpm or core");
     }
@@ -169,44 +176,63 @@ void run(const Options& opt) {
   }
   if (results.empty()) throw Error("synth: no design synthesised; see the messages above");
 
-  // Lanes that fit and the clock: from the synthesised core when there is one, otherwise
-  // from TEM + MPM per lane (memories and stream ports then come on top).
+  // Lanes that fit and the clock. Per lane: TEM + MPM (synthesised alone). Shared: the
+  // core's logic beyond its lanes (core at --lanes minus lanes x (TEM + MPM)) when the core
+  // was synthesised. Block RAM: the analytic estimate at block15 capacity, since the core
+  // is synthesised at a reduced capacity (see kCoreCapacityParams).
   json fit;
-  int lanes_fit = 0;
   double clock_mhz = 1e9;
   for (const auto& [label, r] : results) clock_mhz = std::min(clock_mhz, r.timing.fmax_mhz);
   const bool have_lane = results.count("tem") && results.count("mpm");
-  if (have_lane) {
-    const Resources lane = sum(results.at("tem").resources, results.at("mpm").resources);
-    lanes_fit = synth::lanes_that_fit(lane, Resources{});
-    fit["per_lane_tem_plus_mpm"] = resources_json(lane);
-    fit["method"] = "XC2V6000 budget / (TEM + MPM) per lane; shared memories not included";
-  }
-  if (results.count("core")) {
+  Resources lane, shared;
+  if (have_lane) lane = sum(results.at("tem").resources, results.at("mpm").resources);
+  if (have_lane && results.count("core")) {
     const Resources& core = results.at("core").resources;
-    if (have_lane && opt.lanes > 1) {
-      // Shared part = core - Lanes x (TEM + MPM); lanes scale the per-lane part.
-      Resources lane = sum(results.at("tem").resources, results.at("mpm").resources);
-      Resources shared;
-      shared.lut4 = std::max(0, core.lut4 - opt.lanes * lane.lut4);
-      shared.ff = std::max(0, core.ff - opt.lanes * lane.ff);
-      shared.mult18 = std::max(0, core.mult18 - opt.lanes * lane.mult18);
-      shared.ramb16 = std::max(0, core.ramb16 - opt.lanes * lane.ramb16);
-      lanes_fit = synth::lanes_that_fit(lane, shared);
-      fit["shared"] = resources_json(shared);
-      fit["method"] =
-          "XC2V6000 budget: core at --lanes minus lanes x (TEM + MPM) is the shared "
-          "part; each further lane adds TEM + MPM";
-    } else {
-      lanes_fit = synth::utilisation(core).slices <= synth::Device{}.slices &&
-                          core.mult18 <= synth::Device{}.mult18 &&
-                          core.ramb16 <= synth::Device{}.ramb16
-                      ? opt.lanes
-                      : 0;
-      fit["method"] = "synthesised core at --lanes checked against the XC2V6000 budget";
-    }
+    shared.lut4 = std::max(0, core.lut4 - opt.lanes * lane.lut4);
+    shared.ff = std::max(0, core.ff - opt.lanes * lane.ff);
+    shared.mult18 = std::max(0, core.mult18 - opt.lanes * lane.mult18);
   }
+  fit["per_lane_tem_plus_mpm"] = resources_json(lane);
+  fit["shared_logic"] = resources_json(shared);
+  const Scenario block15 = load_scenario("block15");
+  const Model block15_model = block15.build_model();
+  synth::ProblemSize block15_size{
+      "block15", block15_model.num_particles(), block15_model.num_edges(), {}};
+  block15_size.degree.assign(block15_model.num_particles(), 0);
+  for (const Edge& e : block15_model.edges) ++block15_size.degree[e.s], ++block15_size.degree[e.e];
+  int lanes_fit = 0;
+  json per_lanes = json::array();
+  for (int l = 1; have_lane && l <= kMaxCoreLanes; ++l) {
+    synth::Capacity cap{block15_size.particles, block15_size.edges,
+                        static_cast<int>(synth::gather_rows(block15_size, l) * l)};
+    Resources total = shared;
+    total.lut4 += l * lane.lut4;
+    total.ff += l * lane.ff;
+    total.mult18 += l * lane.mult18;
+    total.ramb16 = synth::estimate_core_ramb16(cap, l);
+    const synth::Utilisation u = synth::utilisation(total);
+    const bool fits = u.slices_pct <= 100.0 && u.mult18_pct <= 100.0 && u.ramb16_pct <= 100.0;
+    per_lanes.push_back(
+        {{"lanes", l},
+         {"estimated_slices", u.slices},
+         {"mult18x18", total.mult18},
+         {"ramb16_block15_capacity_estimate", total.ramb16},
+         {"percent",
+          {{"slices", u.slices_pct}, {"mult18x18", u.mult18_pct}, {"ramb16", u.ramb16_pct}}},
+         {"fits", fits}});
+    if (fits && l == lanes_fit + 1) lanes_fit = l;
+  }
+  fit["candidates"] = per_lanes;
   fit["max_lanes_xc2v6000"] = lanes_fit;
+  fit["core_max_lanes_parameter"] = kMaxCoreLanes;
+  fit["method"] =
+      "shared logic + L x (TEM + MPM) against 33,792 slices and 144 MULT18X18; RAMB16 from the "
+      "analytic memory model at block15 capacity (host/synth/performance_model.hpp)";
+  fit["ramb16_default_capacity_estimate_1_lane"] = synth::estimate_core_ramb16({}, 1);
+  if (results.count("core")) {
+    fit["ramb16_analytic_at_synthesised_capacity"] =
+        synth::estimate_core_ramb16(opt.core_capacity, opt.lanes);
+  }
 
   // Performance model.
   synth::CycleModel cycle_model;
@@ -215,10 +241,11 @@ void run(const Options& opt) {
   json perf = json::object();
   perf["clock_mhz_estimate"] = clock_mhz;
   perf["lanes"] = lanes_used;
-  perf["cycle_formula"] = "ceil(E/L) + tem_latency + ceil((2E + N0)/L) + mpm_latency + overhead";
-  perf["cycle_model"] = {{"tem_latency", cycle_model.tem_latency},
-                         {"mpm_latency", cycle_model.mpm_latency},
-                         {"overhead", cycle_model.overhead},
+  perf["cycle_formula"] =
+      "max(ceil(E/L), 1) + TemDrain + G + MpmDrain; G = max over lanes of "
+      "sum over the lane's particles (i % L) of max(degree, 1)";
+  perf["cycle_model"] = {{"tem_drain", cycle_model.tem_drain},
+                         {"mpm_drain", cycle_model.mpm_drain},
                          {"source", cycle_model.source}};
   perf["paper_2003"] = {{"fpga_xc2v6000_ms", kPaperFpgaStepMs},
                         {"pc_pentium4_1p7ghz_ms", kPaperPcStepMs},
@@ -234,10 +261,9 @@ void run(const Options& opt) {
   for (const std::string name : {"block5", "block15"}) {
     const Scenario scenario = load_scenario(name);
     const Model model = scenario.build_model();
-    synth::ProblemSize size{name, model.num_particles(), model.num_edges(), 0};
-    std::vector<int> degree(model.num_particles(), 0);
-    for (const Edge& e : model.edges) ++degree[e.s], ++degree[e.e];
-    size.particles_without_edges = static_cast<int>(std::count(degree.begin(), degree.end(), 0));
+    synth::ProblemSize size{name, model.num_particles(), model.num_edges(), {}};
+    size.degree.assign(model.num_particles(), 0);
+    for (const Edge& e : model.edges) ++size.degree[e.s], ++size.degree[e.e];
     const long long cycles = synth::cycles_per_step(size, lanes_used, cycle_model);
     const double step_us = cycles / clock_mhz;
     const double edge_rate = size.edges / (step_us * 1e-6);
@@ -314,8 +340,6 @@ void register_synth(CLI::App& app) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--core-top", opt->core_top, "top module of the core")->capture_default_str();
-  cmd->add_option("--core-param", opt->core_params,
-                  "extra Name=Value parameter of the core top (e.g. a smaller capacity)");
   cmd->add_flag("!--no-reference-timing", opt->time_reference,
                 "skip timing the double reference model");
   cmd->callback([opt] { run(*opt); });

@@ -35,12 +35,47 @@ int lanes_that_fit(const Resources& per_lane, const Resources& shared, const Dev
   return static_cast<int>(lanes);
 }
 
+long long gather_rows(const ProblemSize& p, int lanes) {
+  if (lanes < 1) throw Error("gather_rows: lanes must be >= 1, got " + std::to_string(lanes));
+  if (static_cast<int>(p.degree.size()) != p.particles) {
+    throw Error("gather_rows: " + p.name + " has " + std::to_string(p.particles) +
+                " particles but " + std::to_string(p.degree.size()) + " degrees");
+  }
+  std::vector<long long> rows(lanes, 0);
+  for (int i = 0; i < p.particles; ++i) rows[i % lanes] += std::max(p.degree[i], 1);
+  return *std::max_element(rows.begin(), rows.end());
+}
+
 long long cycles_per_step(const ProblemSize& p, int lanes, const CycleModel& model) {
-  if (lanes < 1) throw Error("cycles_per_step: lanes must be >= 1, got " + std::to_string(lanes));
-  const long long tem = ceil_div(p.edges, lanes) + model.tem_latency;
-  const long long gather =
-      ceil_div(2LL * p.edges + p.particles_without_edges, lanes) + model.mpm_latency;
-  return tem + gather + model.overhead;
+  const long long tem_rows = std::max<long long>(ceil_div(p.edges, lanes), 1);
+  return tem_rows + model.tem_drain + gather_rows(p, lanes) + model.mpm_drain;
+}
+
+int ramb16_for_memory(long long depth, int width) {
+  // RAMB16 aspect ratios (depth x width incl. parity bits where the width allows).
+  static constexpr int kDepth[] = {16384, 8192, 4096, 2048, 1024, 512};
+  static constexpr int kWidth[] = {1, 2, 4, 9, 18, 36};
+  long long best = LLONG_MAX;
+  for (int i = 0; i < 6; ++i) {
+    best = std::min(best, ceil_div(depth, kDepth[i]) * ceil_div(width, kWidth[i]));
+  }
+  return static_cast<int>(best);
+}
+
+int estimate_core_ramb16(const Capacity& c, int lanes) {
+  const int index_bits_p = 12, index_bits_m = 4, word = 32, coef = 24;
+  // Particle x and p: read by the TEM's two ends and the MPM in every lane.
+  const int particle_state = 2 * ramb16_for_memory(c.particles, 3 * word) * 3 * lanes;
+  // Home position, 1/m coefficient and flags: read by the MPM of every lane.
+  const int particle_const = ramb16_for_memory(c.particles, 3 * word + coef + 2) * lanes;
+  // Edge ends, material, L and d: read by the TEM of every lane.
+  const int edge_state =
+      ramb16_for_memory(c.edges, 2 * index_bits_p + index_bits_m + 2 * word) * lanes;
+  // Edge forces: written by the TEM, read by the gather of every lane.
+  const int edge_force = ramb16_for_memory(c.edges, 3 * word) * lanes;
+  // Gather table: one 31-bit entry per lane and row.
+  const int gather = ramb16_for_memory(c.gather, 31);
+  return particle_state + particle_const + edge_state + edge_force + gather;
 }
 
 }  // namespace rheo::synth

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "host/synth/synth_report.hpp"
 
@@ -30,23 +31,33 @@ Utilisation utilisation(const Resources& r, const Device& device = {});
 // lane does not fit). Slices are summed as estimated per part.
 int lanes_that_fit(const Resources& per_lane, const Resources& shared, const Device& device = {});
 
-// Cycles of one core step, as the core runs it (hls/rheo_kernel.hpp core_step and the RTL):
-// a TEM pass over the edges, L edges per clock, then the gather/MPM pass over the gather
-// table (every edge appears once for each end, particles without edges once), L entries
-// per clock, each pass followed by its pipeline drain:
-//   cycles = ceil(E / L) + tem_latency + ceil((2 E + N0) / L) + mpm_latency + overhead
+// Cycles of one core step, the formula of rtl/rheo_core.sv (counted there in status word
+// 2 and checked against Verilator by the hardware tests):
+//   cycles = max(ceil(E / L), 1) + TemDrain + G + MpmDrain
+//   G = max over lanes j of the sum, over the lane's particles (i % L == j, the driver's
+//       assignment), of max(degree_i, 1)
 struct CycleModel {
-  int tem_latency = 18;  // rtl/rheo_tem.sv header
-  int mpm_latency = 5;   // rtl/rheo_mpm.sv header
-  int overhead = 0;      // start/done handshake and plate-word write-back, per step
-  std::string source = "hls/rheo_kernel.hpp core_step loop structure + rtl latencies";
+  int tem_drain = 21;  // rtl/rheo_core.sv TemDrain (host/driver kTemDrainCycles)
+  int mpm_drain = 10;  // rtl/rheo_core.sv MpmDrain (host/driver kMpmDrainCycles)
+  std::string source = "rtl/rheo_core.sv header; host/driver/core_image.hpp";
 };
 struct ProblemSize {
   std::string name;
   int particles = 0;
   int edges = 0;
-  int particles_without_edges = 0;
+  std::vector<int> degree;  // edges incident to each particle
 };
+long long gather_rows(const ProblemSize& p, int lanes);
 long long cycles_per_step(const ProblemSize& p, int lanes, const CycleModel& model = {});
+
+// Block RAM of the core's state memories at a capacity, from the RAMB16 aspect ratios
+// (16K x 1 ... 512 x 36): each memory takes the cheapest ratio, and arrays read by several
+// ports per lane are replicated (one read port per copy), as rtl/rheo_core.sv describes.
+// An analytic estimate for capacities too large to synthesise on this machine.
+struct Capacity {
+  int particles = 4096, edges = 65536, gather = 139264;
+};
+int ramb16_for_memory(long long depth, int width);
+int estimate_core_ramb16(const Capacity& c, int lanes);
 
 }  // namespace rheo::synth

@@ -1,0 +1,104 @@
+// The reference model's semi-implicit Euler step (sim/simulator.cpp step_sie) with every
+// state word in a chosen scalar type, for the float column of `rheo fixed`. It evaluates
+// the same templated edge kernel (sim/edge_kernel.hpp) instantiated for Real, and covers
+// what the hardware computes: three-element edges (with the optional kernel features),
+// gravity, floor, fixed and plate-driven particles with the unilateral plate rule.
+// Topology and volume forces are not part of the hardware model and are refused here.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "sim/edge_kernel.hpp"
+#include "sim/error.hpp"
+#include "sim/model.hpp"
+
+namespace rheo::fixedcmp {
+
+template <typename Real>
+class SieLoop {
+ public:
+  using V = std::array<Real, 3>;
+
+  SieLoop(const Model& model, double dt) : model_(model), dt_(static_cast<Real>(dt)) {
+    if (model.topology.enabled || model.volume.enabled) {
+      throw Error(
+          "float loop: topology/volume forces are not part of the hardware model; "
+          "expected a model from driver::hardware_model()");
+    }
+    const int n = model.num_particles();
+    x_.resize(n);
+    v_.assign(n, V{Real(0), Real(0), Real(0)});
+    f_.resize(n);
+    for (int i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) x_[i][c] = static_cast<Real>(model.x0[i][c]);
+    }
+    d_.resize(model.num_edges());
+    m_.assign(model.num_edges(), Real(0));
+    for (int k = 0; k < model.num_edges(); ++k) d_[k] = static_cast<Real>(model.edges[k].L);
+    ddot_.resize(model.num_edges());
+    length_.resize(model.num_edges());
+  }
+
+  // One step with the plate at height plate_z; returns the plate force [N].
+  double step(double plate_z_m) {
+    const Real plate_z = static_cast<Real>(plate_z_m);
+    const int n = model_.num_particles();
+    for (auto& f : f_) f = V{Real(0), Real(0), Real(0)};
+    for (int k = 0; k < model_.num_edges(); ++k) {
+      const Edge& e = model_.edges[k];
+      const EdgeEval<Real> r = evaluate_edge<Real>(model_.materials[e.material], x_[e.s], x_[e.e],
+                                                   v_[e.s], v_[e.e], d_[k], e.L, e.l0, m_[k]);
+      const Real scale = r.tension / r.length;
+      for (int c = 0; c < 3; ++c) {
+        const Real pull = scale * (x_[e.e][c] - x_[e.s][c]);
+        f_[e.s][c] += pull;
+        f_[e.e][c] -= pull;
+      }
+      ddot_[k] = r.ddot;
+      length_[k] = r.length;
+      m_[k] += dt_ * r.mdot;
+    }
+    Real plate_force = Real(0);
+    for (int i = 0; i < n; ++i) {
+      const std::uint8_t flag = model_.flags[i];
+      if (flag == kFixed) {
+        for (int c = 0; c < 3; ++c) x_[i][c] = static_cast<Real>(model_.x0[i][c]);
+        v_[i] = V{Real(0), Real(0), Real(0)};
+        continue;
+      }
+      const Real z_start = x_[i][2];
+      const Real mass = static_cast<Real>(model_.mass[i]);
+      for (int c = 0; c < 3; ++c) {
+        const Real g = static_cast<Real>(model_.gravity[c]);  // as given (model.hpp)
+        v_[i][c] += dt_ * (f_[i][c] / mass + g);
+        x_[i][c] += dt_ * v_[i][c];
+      }
+      if (model_.floor && x_[i][2] < Real(0)) {
+        x_[i][2] = Real(0);
+        if (v_[i][2] < Real(0)) v_[i][2] = Real(0);
+      }
+      if (flag == kPlate && x_[i][2] > plate_z) {
+        x_[i][2] = plate_z;
+        const Real limit = (plate_z - z_start) / dt_;
+        if (v_[i][2] > limit) v_[i][2] = limit;
+        plate_force += f_[i][2];
+      }
+    }
+    for (int k = 0; k < model_.num_edges(); ++k) {
+      const EdgeMaterial& m = model_.materials[model_.edges[k].material];
+      d_[k] = clamp_voigt_length<Real>(m, d_[k] + dt_ * ddot_[k], length_[k]);
+    }
+    return static_cast<double>(plate_force);
+  }
+
+  double position(int i, int c) const { return static_cast<double>(x_[i][c]); }
+
+ private:
+  const Model& model_;
+  Real dt_;
+  std::vector<V> x_, v_, f_;
+  std::vector<Real> d_, m_, ddot_, length_;
+};
+
+}  // namespace rheo::fixedcmp
