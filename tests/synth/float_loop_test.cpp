@@ -1,0 +1,45 @@
+// The float column of `rheo fixed` runs the reference step on its own loop: instantiated
+// for double it must reproduce rheo::Simulator exactly, so the float figures measure
+// float rounding and nothing else.
+#include <gtest/gtest.h>
+
+#include "host/driver/core_image.hpp"
+#include "host/fixedcmp/float_simulator.hpp"
+#include "sim/error.hpp"
+#include "sim/scenario.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo::fixedcmp {
+namespace {
+
+// Steps long enough for plate contact, hold and edge clamping to matter.
+constexpr int kSteps = 400;
+
+TEST(SieLoop, InstantiatedForDoubleReproducesTheReferenceSimulatorBitForBit) {
+  for (const std::string name : {"block5", "clay_push"}) {
+    const Scenario scenario = load_scenario(name);
+    const Model model = driver::hardware_model(scenario.build_model());
+    Simulator reference(model, scenario.options);
+    SieLoop<double> loop(model, scenario.options.dt);
+    for (int s = 1; s <= kSteps; ++s) {
+      const double plate_z =
+          model.height - scenario.protocol.displacement_mm(s * scenario.options.dt) * 1e-3;
+      const double f_ref = reference.step(plate_z).plate_force_N;
+      ASSERT_EQ(loop.step(plate_z), f_ref) << name << " step " << s;
+    }
+    for (int i = 0; i < model.num_particles(); ++i) {
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_EQ(loop.position(i, c), reference.state().x[i][c]) << name << " particle " << i;
+      }
+    }
+  }
+}
+
+TEST(SieLoop, RefusesModelsWithForcesTheHardwareDoesNotCompute) {
+  Model model = load_scenario("block5").build_model();
+  model.volume.enabled = true;
+  EXPECT_THROW(SieLoop<float>(model, 1e-4), Error);
+}
+
+}  // namespace
+}  // namespace rheo::fixedcmp

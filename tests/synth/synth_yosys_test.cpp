@@ -1,0 +1,51 @@
+// Runs the real Yosys flow (scripts/synth.tcl) on the TEM and sanity-checks what comes
+// back. Label `synth`: a few minutes, skipped locally with -LE synth, run in CI.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "host/synth/performance_model.hpp"
+#include "host/synth/yosys_runner.hpp"
+#include "sim/error.hpp"
+
+namespace rheo::synth {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Plausibility window for a Virtex-II -6 design clock: anything outside means a parsing
+// or delay-model fault, not a design property.
+constexpr double kMinPlausibleMhz = 5.0;
+constexpr double kMaxPlausibleMhz = 420.0;
+// rtl/rheo_tem.sv uses 25 multiplications of up to 32-bit operands: at least 25 blocks,
+// at most 4 per multiplication plus spares.
+constexpr int kMinTemMultipliers = 25;
+constexpr int kMaxTemMultipliers = 4 * 25 + 8;
+
+TEST(YosysSynthesis, TemReportIsParsedAndPlausible) {
+  const fs::path out = fs::temp_directory_path() / "rheo_synth_yosys_test";
+  fs::remove_all(out);
+  DesignSpec spec{"tem", "rheo_tem", {"rheo_fixed_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"}, {}};
+  const SynthResult r = run_synthesis(spec, default_setup(), out);
+  EXPECT_GT(r.resources.lut4, 1000);
+  EXPECT_GT(r.resources.ff, 500);  // 18 pipeline stages of 32-bit words
+  EXPECT_GE(r.resources.mult18, kMinTemMultipliers);
+  EXPECT_LE(r.resources.mult18, kMaxTemMultipliers);
+  EXPECT_GE(r.resources.ramb16, 1);  // the rsqrt seed ROM
+  EXPECT_GT(r.path.length, 1);
+  EXPECT_GT(r.timing.fmax_mhz, kMinPlausibleMhz);
+  EXPECT_LT(r.timing.fmax_mhz, kMaxPlausibleMhz);
+  EXPECT_GT(utilisation(r.resources).slices, 0);
+  EXPECT_TRUE(fs::exists(r.edif));
+  EXPECT_GT(fs::file_size(r.edif), 1000u);
+  EXPECT_GT(r.yosys_seconds, 0.0);
+  fs::remove_all(out);
+}
+
+TEST(YosysSynthesis, MissingSourceIsReportedBeforeYosysRuns) {
+  DesignSpec spec{"x", "rheo_x", {"no_such_file.sv"}, {}};
+  EXPECT_THROW(run_synthesis(spec, default_setup(), fs::temp_directory_path()), Error);
+}
+
+}  // namespace
+}  // namespace rheo::synth
