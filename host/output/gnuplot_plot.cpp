@@ -37,6 +37,7 @@ void plot_force_csv(const PlotRequest& r) {
        << r.script_name << "\n"
        << "set terminal pngcairo size 1000,800 font 'sans,10'\n"
        << "set output " << quoted(r.png_name) << "\n"
+       << "set termoption noenhanced\n"
        << "set datafile separator ','\n"
        << "set grid\n"
        << "set multiplot layout 2,1 title " << quoted(r.title) << "\n"
