@@ -461,7 +461,7 @@ void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
   const FitResult& ext = d.extended();
   // Plot data and script.
   std::ostringstream gp;
-  gp << "set terminal pngcairo size 1000,800 font 'sans,10'\nset grid\n";
+  gp << "set terminal pngcairo size 1000,800 font 'sans,10' noenhanced\nset grid\n";
   std::vector<std::pair<std::string, std::string>> plots;
   auto add = [&](const Measurement& m, const std::string& stem, const std::string& role) {
     write_series(dir / (stem + ".dat"), m, d.baseline, ext, sim);
@@ -558,7 +558,7 @@ void write_fit(const std::string& dir_name, const FitResult& f,
   const fs::path dir(dir_name);
   fs::create_directories(dir);
   std::ostringstream gp;
-  gp << "set terminal pngcairo size 1000,800 font 'sans,10'\nset grid\n";
+  gp << "set terminal pngcairo size 1000,800 font 'sans,10' noenhanced\nset grid\n";
   for (std::size_t i = 0; i < data.size(); ++i) {
     const std::string stem = "fit_" + std::to_string(i);
     write_series(dir / (stem + ".dat"), data[i], f, f, options.simulation);

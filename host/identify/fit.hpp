@@ -40,7 +40,7 @@ ModelSpec model_spec(Extension e, const DataScales& s);
 SpecimenParams to_params(const ModelSpec& spec, const std::vector<double>& values);
 
 struct FitOptions {
-  int max_iterations = 60;
+  int max_iterations = 40;
   double surface_weight_N_per_mm = 1.0;  // residual weight of surface_mm rows, when present
   bool use_surface = true;
   SimulationOptions simulation;

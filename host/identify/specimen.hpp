@@ -62,7 +62,7 @@ std::string coarse_mesh_description(const Geometry& g);
 struct SimulationOptions {
   double max_dt = 0.1;                  // [s] upper bound of the time step
   double steps_per_time_constant = 10;  // accuracy: dt <= shortest relaxation time / this
-  long max_steps = 400000;              // cap on the total steps (dt grows instead)
+  long max_steps = 20000;               // cap on the total steps (dt grows instead)
 };
 
 struct Prediction {
