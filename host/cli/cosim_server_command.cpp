@@ -11,6 +11,7 @@
 #include "host/cli/commands.hpp"
 #include "host/driver/bittrue_transport.hpp"
 #include "host/driver/link/cosim_server.hpp"
+#include "host/driver/link/null_core.hpp"
 #include "host/driver/link/socket_transport.hpp"
 #include "sim/error.hpp"
 #ifdef RHEO_HAVE_RTL
@@ -32,6 +33,9 @@ struct CosimServerArgs {
 };
 
 link::CoreFactory core_factory(const CosimServerArgs& args) {
+  if (args.core == "null") {
+    return [lanes = args.lanes] { return std::make_unique<link::NullCore>(lanes); };
+  }
   if (args.core == "bittrue") {
     return [lanes = args.lanes] { return std::make_unique<driver::BitTrueTransport>(lanes); };
   }
@@ -86,9 +90,10 @@ void register_cosim_server(CLI::App& app) {
   cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of the core")
       ->check(CLI::IsMember({1, 2}));
   cmd->add_option("--core", args->core,
-                  "Core behind the socket: rtl (Verilator, default) or bittrue (the bit-true "
-                  "model, for link tests without Verilator)")
-      ->check(CLI::IsMember({"rtl", "bittrue"}));
+                  "Core behind the socket: rtl (Verilator, default), bittrue (the bit-true "
+                  "model, for link tests without Verilator) or null (answers with zeros "
+                  "without computing: measures the link alone)")
+      ->check(CLI::IsMember({"rtl", "bittrue", "null"}));
   cmd->add_option("--timeout-ms", args->timeout_ms,
                   "Longest wait for a hello or for the rest of a begun frame")
       ->check(CLI::PositiveNumber);

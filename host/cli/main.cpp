@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   rheo::cli::register_cosim(app);
   rheo::cli::register_fixed(app);
   rheo::cli::register_cosim_server(app);
+  rheo::cli::register_bench_link(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

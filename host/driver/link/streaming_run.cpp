@@ -39,12 +39,14 @@ StreamingTotals run_streaming(driver::Transport& transport, const StreamingOptio
   std::uint64_t sent = 0, in_flight = 0;
   std::vector<std::uint32_t> words;
 
-  auto send_chunk = [&] {
-    std::uint64_t n = std::min<std::uint64_t>(
-        {chunk_limit, options.steps - sent, options.window_steps - in_flight});
-    if (options.state_every > 0) {  // end chunks on checkpoints
-      n = std::min(n, options.state_every - sent % options.state_every);
-    }
+  // The next chunk's size: whole chunks only (a window that admitted any sliver would
+  // fragment the stream into ever smaller frames), ending on state checkpoints.
+  auto next_chunk_steps = [&] {
+    std::uint64_t n = std::min<std::uint64_t>(chunk_limit, options.steps - sent);
+    if (options.state_every > 0) n = std::min(n, options.state_every - sent % options.state_every);
+    return n;
+  };
+  auto send_chunk = [&](std::uint64_t n) {
     PendingChunk chunk{sent, static_cast<std::uint32_t>(n), false};
     words.clear();
     words.push_back(frame::header(frame::kOpRun, frame::kRegionGlobals, chunk.steps));
@@ -98,8 +100,9 @@ StreamingTotals run_streaming(driver::Transport& transport, const StreamingOptio
   };
 
   while (totals.steps < options.steps) {
-    if (sent < options.steps && in_flight < options.window_steps) {
-      send_chunk();
+    const std::uint64_t n = sent < options.steps ? next_chunk_steps() : 0;
+    if (n > 0 && in_flight + n <= options.window_steps) {
+      send_chunk(n);
     } else {
       receive_chunk();
     }
