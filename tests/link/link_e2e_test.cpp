@@ -1,0 +1,204 @@
+// `rheo cosim-server` as a real subprocess with the Verilator core: bit-identical results to
+// the in-process RTL device, and the faults only a separate process can show (killed, hung,
+// shut down, terminated). Bounded timeouts everywhere; sockets live in a fresh temp dir.
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "host/driver/device.hpp"
+#include "host/driver/link/link_error.hpp"
+#include "host/driver/link/remote_transport.hpp"
+#include "host/driver/link/streaming_run.hpp"
+#include "host/driver/verilator_transport.hpp"
+#include "sim/scenario.hpp"
+
+extern char** environ;
+
+namespace rheo::link {
+namespace {
+
+// Generous for starting a Verilator process and answering a block5 chunk on a busy machine.
+constexpr Milliseconds kServerTimeout{20000};
+// What a hung server is given before the host gives up in the timeout test.
+constexpr Milliseconds kHungTimeout{700};
+constexpr int kLanes = 2;
+
+class ServerProcess {
+ public:
+  explicit ServerProcess(int lanes = kLanes) {
+    char dir_template[] = "/tmp/rheo-link-e2e-XXXXXX";
+    if (!::mkdtemp(dir_template)) throw Error("mkdtemp failed");
+    dir_ = dir_template;
+    socket_ = dir_ + "/core.sock";
+    const std::string lanes_text = std::to_string(lanes);
+    const char* argv[] = {RHEO_BINARY, "cosim-server",     "--socket", socket_.c_str(),
+                          "--lanes",   lanes_text.c_str(), "--quiet",  nullptr};
+    if (::posix_spawn(&pid_, RHEO_BINARY, nullptr, nullptr, const_cast<char**>(argv), environ) !=
+        0) {
+      throw Error("cannot start " + std::string(RHEO_BINARY));
+    }
+  }
+  ~ServerProcess() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGCONT);
+      ::kill(pid_, SIGKILL);
+      wait();
+    }
+    std::filesystem::remove_all(dir_);
+  }
+  const std::string& socket() const { return socket_; }
+  void signal(int sig) { ::kill(pid_, sig); }
+  // Exit status, waiting at most `limit`; -1 if it is still running then.
+  int wait(std::chrono::milliseconds limit = std::chrono::milliseconds(10000)) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (pid_ > 0) {
+      int status = 0;
+      const pid_t r = ::waitpid(pid_, &status, WNOHANG);
+      if (r == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      if (std::chrono::steady_clock::now() > end) return -1;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return -1;
+  }
+
+ private:
+  std::string dir_, socket_;
+  pid_t pid_ = -1;
+};
+
+struct Workload {
+  Scenario scenario = load_scenario("block5");
+  Model model = scenario.build_model();
+  driver::CoreImage image =
+      driver::make_core_image(model, initial_state(model), scenario.options.dt, kLanes);
+  std::int32_t plate_word(std::uint64_t step) const {
+    const double z =
+        model.height -
+        scenario.protocol.displacement_mm(double(step + 1) * scenario.options.dt) * 1e-3;
+    return static_cast<std::int32_t>(driver::to_x_word(z, image, "plate height"));
+  }
+};
+
+const Workload& workload() {
+  static const Workload w;
+  return w;
+}
+
+std::unique_ptr<driver::Device> connect(const ServerProcess& server,
+                                        Milliseconds timeout = kServerTimeout) {
+  return std::make_unique<driver::Device>(
+      RemoteTransport::connect_socket(server.socket(), timeout));
+}
+
+TEST(CosimServer, GivesBitIdenticalForcesAndStateToTheInProcessRtlCore) {
+  constexpr std::uint64_t kSteps = 400;
+  const Workload& w = workload();
+  std::vector<std::int32_t> plates;
+  for (std::uint64_t s = 0; s < kSteps; ++s) plates.push_back(w.plate_word(s));
+  driver::VerilatorOptions vo;
+  vo.lanes = kLanes;
+  driver::Device local(std::make_unique<driver::VerilatorTransport>(vo));
+  local.load(w.image);
+  const auto local_forces = local.run(plates);
+  const auto local_state = local.read_particle_state(0, w.image.num_particles);
+
+  ServerProcess server;
+  auto remote = connect(server);
+  remote->load(w.image);
+  std::vector<std::int32_t> forces;
+  StreamingOptions o;
+  o.steps = kSteps;
+  o.num_particles = w.image.num_particles;
+  o.state_every = kSteps;
+  std::vector<std::int32_t> last_state;
+  run_streaming(remote->transport(), o,
+                {[&](std::uint64_t s) { return plates[s]; },
+                 [&](std::uint64_t, std::int32_t f) { forces.push_back(f); },
+                 [&](std::uint64_t, std::span<const std::int32_t> st) {
+                   last_state.assign(st.begin(), st.end());
+                 }});
+  EXPECT_EQ(forces, local_forces);
+  EXPECT_EQ(last_state, local_state);
+}
+
+TEST(CosimServer, ServerKilledMidRunIsReportedAndTheHostSurvives) {
+  const Workload& w = workload();
+  ServerProcess server;
+  auto remote = connect(server);
+  remote->load(w.image);
+  StreamingOptions o;
+  o.steps = 1'000'000;  // far more than will run: the kill comes first
+  o.window_steps = 256;
+  std::uint64_t delivered = 0;
+  try {
+    run_streaming(remote->transport(), o,
+                  {[&](std::uint64_t s) { return w.plate_word(s % 1000); },
+                   [&](std::uint64_t, std::int32_t) {
+                     if (++delivered == 200) server.signal(SIGKILL);
+                   },
+                   nullptr});
+    FAIL() << "the run finished although the server was killed";
+  } catch (const LinkError& e) {
+    EXPECT_TRUE(e.fault() == LinkFault::kClosed || e.fault() == LinkFault::kTruncated) << e.what();
+    EXPECT_NE(std::string(e.what()).find(server.socket()), std::string::npos) << e.what();
+  }
+  EXPECT_LT(delivered, o.steps);
+}
+
+TEST(CosimServer, HungServerIsReportedAsATimeoutWithinTheBound) {
+  ServerProcess server;
+  { auto ready = RemoteTransport::connect_socket(server.socket(), kServerTimeout); }
+  driver::Device device(RemoteTransport::connect_socket(server.socket(), kHungTimeout));
+  server.signal(SIGSTOP);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    device.read_status(false);
+    FAIL() << "a stopped server answered";
+  } catch (const LinkError& e) {
+    EXPECT_EQ(e.fault(), LinkFault::kTimeout) << e.what();
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 5 * kHungTimeout);
+}
+
+TEST(CosimServer, ShutdownFrameStopsTheServerAndRemovesItsSocket) {
+  ServerProcess server;
+  {
+    auto remote = RemoteTransport::connect_socket(server.socket(), kServerTimeout);
+    remote->client().shutdown_server();
+  }
+  EXPECT_EQ(server.wait(), 0);
+  EXPECT_FALSE(std::filesystem::exists(server.socket()));
+}
+
+TEST(CosimServer, SigtermStopsTheServerCleanly) {
+  ServerProcess server;
+  { auto remote = RemoteTransport::connect_socket(server.socket(), kServerTimeout); }
+  server.signal(SIGTERM);
+  EXPECT_EQ(server.wait(), 0);
+  EXPECT_FALSE(std::filesystem::exists(server.socket()));
+}
+
+TEST(CosimServer, ServesAFreshCoreToTheNextHostAfterOneLeaves) {
+  const Workload& w = workload();
+  ServerProcess server;
+  for (int session = 0; session < 2; ++session) {
+    auto remote = connect(server);
+    remote->load(w.image);
+    remote->run({w.plate_word(0), w.plate_word(1)});
+    EXPECT_EQ(remote->read_status(false).step_count, 2u) << "session " << session;
+  }
+}
+
+}  // namespace
+}  // namespace rheo::link
