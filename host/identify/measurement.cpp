@@ -1,5 +1,6 @@
 #include "host/identify/measurement.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -249,18 +250,17 @@ Measurement import_relaxation_table(const std::string& path,
     for (char& c : s) {
       if (c == '\t' || c == ';' || c == ',') c = ' ';
     }
+    // One header line is allowed: the first non-comment line when it starts with a letter.
+    if (row_lines.empty() && std::isalpha(static_cast<unsigned char>(s[0]))) {
+      row_lines.push_back(0);  // marker: header consumed
+      continue;
+    }
     std::istringstream cells(s);
     std::string a, b, extra;
     cells >> a >> b >> extra;
     if (b.empty() || !extra.empty()) {
       throw Error(where(path, line) + ": expected two columns (time [s], modulus [Pa]), got '" +
                   trim(raw) + "'");
-    }
-    // One header line is allowed: the first non-comment line when it is not numeric.
-    if (m.size() == 0 && row_lines.empty() && std::strtod(a.c_str(), nullptr) == 0.0 &&
-        a.find_first_of("0123456789") == std::string::npos) {
-      row_lines.push_back(0);  // marker: header consumed
-      continue;
     }
     const double t = parse_number(a, path, line, "time");
     const double g = parse_number(b, path, line, "modulus");
