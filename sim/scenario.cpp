@@ -272,6 +272,20 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
     const std::size_t colon = detail.rfind(": ");
     if (colon != std::string::npos) detail = detail.substr(colon + 2);
     throw Error(file + ":" + line_and_column(text, e.byte) + ": malformed JSON: " + detail);
+  } catch (const json::out_of_range& e) {
+    // A number beyond the double range (e.g. 1e999): nlohmann names the literal but not
+    // where it is, so find it in the text.
+    std::string detail = e.what();
+    const std::size_t quote = detail.find('\'');
+    std::string where = file;
+    if (quote != std::string::npos) {
+      const std::string literal = detail.substr(quote + 1, detail.rfind('\'') - quote - 1);
+      const std::size_t at = text.find(literal);
+      if (at != std::string::npos) where += ":" + line_and_column(text, at + 1);
+    }
+    const std::size_t bracket = detail.find("] ");
+    if (bracket != std::string::npos) detail = detail.substr(bracket + 2);
+    throw Error(where + ": malformed JSON: " + detail + " (not representable as a double)");
   }
   const Field top(file, root, "");
   top.expect_object({"name", "description", "mesh", "material", "integrator", "protocol", "output",

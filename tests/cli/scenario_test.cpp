@@ -1,0 +1,232 @@
+// Scenario loading: every built-in builds a valid, stable model; every kind of bad input
+// is rejected with a message that names the file, the field and what was expected.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "sim/error.hpp"
+#include "sim/scenario.hpp"
+#include "sim/scenarios/builtin.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo {
+namespace {
+
+using nlohmann::json;
+
+// A scenario file in the test's temporary directory, removed afterwards.
+class ScenarioFile {
+ public:
+  explicit ScenarioFile(const std::string& text) {
+    path_ = (std::filesystem::temp_directory_path() /
+             ("rheo_scenario_test_" + std::to_string(counter_++) + ".json"))
+                .string();
+    std::ofstream(path_) << text;
+  }
+  ~ScenarioFile() { std::filesystem::remove(path_); }
+  const std::string& path() const { return path_; }
+
+ private:
+  static inline int counter_ = 0;
+  std::string path_;
+};
+
+json block5_json() { return json::parse(*find_builtin_scenario_text("block5")); }
+
+// The message of the rheo::Error that loading `text` throws ("" if none).
+std::string load_text_error(const std::string& text, std::string* file = nullptr) {
+  ScenarioFile f(text);
+  if (file) *file = f.path();
+  try {
+    load_scenario(f.path());
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string load_error(const json& j, std::string* file = nullptr) {
+  return load_text_error(j.dump(2), file);
+}
+
+TEST(BuiltinScenarios, AreClayPushBlock5AndBlock15) {
+  EXPECT_EQ(builtin_scenarios(), (std::vector<std::string>{"clay_push", "block5", "block15"}));
+}
+
+TEST(BuiltinScenarios, EachBuildsAValidModelWithAStableTimeStep) {
+  for (const std::string& name : builtin_scenarios()) {
+    SCOPED_TRACE(name);
+    const Scenario s = load_scenario(name);
+    EXPECT_EQ(s.name, name);
+    EXPECT_FALSE(s.description.empty());
+    const Model model = s.build_model();
+    EXPECT_GT(model.num_particles(), 0);
+    EXPECT_GT(model.num_edges(), 0);
+    EXPECT_LT(s.options.dt, max_stable_dt(model, s.options.integrator));
+    EXPECT_GT(s.default_steps(), 1000);
+    EXPECT_NO_THROW(Simulator(model, s.options));
+  }
+}
+
+TEST(BuiltinScenarios, HaveThePaperParticleCounts) {
+  EXPECT_EQ(load_scenario("block5").build_model().num_particles(), 5 * 5 * 5);
+  EXPECT_EQ(load_scenario("block15").build_model().num_particles(), 15 * 15 * 16);
+}
+
+TEST(BuiltinScenarios, ClayPushFollowsSeed002Protocol) {
+  // Seed 002: 80 x 80 x 12.5 mm, pushed 9.6 mm at 0.5 mm/s, held 47.88 s, released.
+  constexpr double kTimeTolerance = 1e-9;  // exact arithmetic on the protocol knots
+  const Scenario s = load_scenario("clay_push");
+  EXPECT_DOUBLE_EQ(s.block.sz, 0.08);
+  EXPECT_DOUBLE_EQ(s.block.sx, 0.08);
+  EXPECT_DOUBLE_EQ(s.block.sy, 0.0125);
+  EXPECT_DOUBLE_EQ(s.protocol.displacement_mm(9.6 / 0.5), 9.6);
+  EXPECT_DOUBLE_EQ(s.protocol.displacement_mm(9.6 / 0.5 + 47.88), 9.6);
+  EXPECT_NEAR(s.protocol.displacement_mm(2 * 9.6 / 0.5 + 47.88), 0.0, kTimeTolerance);
+}
+
+TEST(BuiltinScenarios, KeepTheWeightPhysicalUnderMassScaling) {
+  const Scenario s = load_scenario("clay_push");
+  const Model model = s.build_model();
+  double weight = 0.0;
+  for (double m : model.mass) weight += m * -model.gravity.z();
+  const double real_weight = s.block.density * s.block.sx * s.block.sy * s.block.sz * 9.81;
+  EXPECT_NEAR(weight, real_weight, 1e-9 * real_weight);
+}
+
+TEST(ScenarioFiles, LoadLikeTheBuiltinTheyWereCopiedFrom) {
+  ScenarioFile f(*find_builtin_scenario_text("block5"));
+  const Scenario s = load_scenario(f.path());
+  EXPECT_EQ(s.build_model().num_edges(), load_scenario("block5").build_model().num_edges());
+}
+
+TEST(ScenarioFiles, UnknownNameOrMissingFileIsAnErrorListingTheBuiltins) {
+  try {
+    load_scenario("/nonexistent/dir/nothing.json");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("clay_push"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BadScenario, MalformedJsonNamesFileLineAndColumn) {
+  std::string file;
+  const std::string error = load_text_error("{\n  \"name\": \"x\",\n  \"mesh\": {,\n}\n", &file);
+  EXPECT_NE(error.find(file + ":3:"), std::string::npos) << error;
+  EXPECT_NE(error.find("malformed JSON"), std::string::npos) << error;
+}
+
+TEST(BadScenario, NanLiteralIsMalformedJsonWithItsPosition) {
+  std::string text = block5_json().dump(2);
+  text.replace(text.find("\"c1\": 2000.0"), 12, "\"c1\": NaN");
+  const std::string error = load_text_error(text);
+  EXPECT_NE(error.find("malformed JSON"), std::string::npos) << error;
+}
+
+TEST(BadScenario, NumberBeyondDoubleRangeIsNotFinite) {
+  std::string text = block5_json().dump(2);
+  text.replace(text.find("\"k1\": 20000.0"), 14, "\"k1\": 1e999");
+  const std::string error = load_text_error(text);
+  EXPECT_NE(error.find("not representable as a double"), std::string::npos) << error;
+  // "k1" is the 3rd line of the material object: the position points into the file.
+  EXPECT_NE(error.find(".json:"), std::string::npos) << error;
+}
+
+TEST(BadScenario, UnknownKeyIsRejectedWithItsPointer) {
+  json j = block5_json();
+  j["material"]["c_1"] = 3.0;
+  std::string file;
+  const std::string error = load_error(j, &file);
+  EXPECT_NE(error.find(file + ": /material/c_1: unknown key"), std::string::npos) << error;
+}
+
+TEST(BadScenario, MissingFieldIsNamed) {
+  json j = block5_json();
+  j["material"].erase("k1");
+  EXPECT_NE(load_error(j).find("/material/k1: missing"), std::string::npos);
+}
+
+struct BadValue {
+  const char* pointer;
+  json value;
+  const char* expected;  // part of the message
+};
+
+class BadValueTest : public testing::TestWithParam<BadValue> {};
+
+TEST_P(BadValueTest, IsRejectedNamingTheFieldAndWhatWasExpected) {
+  const BadValue& bad = GetParam();
+  json j = block5_json();
+  j[json::json_pointer(bad.pointer)] = bad.value;
+  std::string file;
+  const std::string error = load_error(j, &file);
+  EXPECT_NE(error.find(file + ": " + bad.pointer + ": expected"), std::string::npos) << error;
+  EXPECT_NE(error.find(bad.expected), std::string::npos) << error;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryCheckedField, BadValueTest,
+    testing::Values(BadValue{"/material/density", 0.0, "positive"},
+                    BadValue{"/material/density", -1200.0, "positive"},
+                    BadValue{"/material/c1", -1.0, "non-negative"},
+                    BadValue{"/material/c2", "a lot", "number"},
+                    BadValue{"/mesh/sx_m", 0.0, "positive"},
+                    BadValue{"/mesh/sz_m", -0.04, "positive"},
+                    BadValue{"/mesh/nx", 1, "integer from 2"}, BadValue{"/mesh/nz", 2.5, "integer"},
+                    BadValue{"/mesh/dim", 4, "from 2 to 3"},
+                    BadValue{"/mesh/structure", "cubic", "\"truss\" or \"lattice\""},
+                    BadValue{"/integrator/method", "euler", "semi_implicit_euler"},
+                    BadValue{"/integrator/dt_s", 0.0, "positive"},
+                    BadValue{"/integrator/mass_scale", -5.0, "positive"},
+                    BadValue{"/protocol/depth_mm", 50.0, "below the block height"},
+                    BadValue{"/protocol/speed_mm_s", 0.0, "positive"},
+                    BadValue{"/protocol/type", "sine", "push_hold_release"}));
+
+TEST(BadScenario, ProtocolTimesMustIncreaseStrictly) {
+  json j = block5_json();
+  j["protocol"] = {{"type", "table"}, {"t_s", {0.0, 1.0, 1.0}}, {"plate_mm", {0.0, 2.0, 0.0}}};
+  const std::string error = load_error(j);
+  EXPECT_NE(error.find("/protocol/t_s/2: expected strictly increasing"), std::string::npos)
+      << error;
+}
+
+TEST(BadScenario, ProtocolTableColumnsMustHaveEqualLength) {
+  json j = block5_json();
+  j["protocol"] = {{"type", "table"}, {"t_s", {0.0, 1.0}}, {"plate_mm", {0.0, 2.0, 0.0}}};
+  EXPECT_NE(load_error(j).find("/protocol/plate_mm: expected as many entries"), std::string::npos);
+}
+
+TEST(BadScenario, ViscositiesMayNotBothBeZero) {
+  json j = block5_json();
+  j["material"]["c1"] = 0.0;
+  j["material"]["c2"] = 0.0;
+  EXPECT_NE(load_error(j).find("/material/c2: expected c1 + c2 > 0"), std::string::npos);
+}
+
+TEST(BadScenario, TableProtocolIsAccepted) {
+  json j = block5_json();
+  j["protocol"] = {{"type", "table"}, {"t_s", {0.0, 1.0, 2.0}}, {"plate_mm", {0.0, 2.0, 0.0}}};
+  ScenarioFile f(j.dump());
+  const Scenario s = load_scenario(f.path());
+  EXPECT_DOUBLE_EQ(s.protocol.displacement_mm(0.5), 1.0);
+}
+
+TEST(BadScenario, UnstableTimeStepIsRefusedWithTheLargestSafeDt) {
+  json j = block5_json();
+  j["integrator"]["dt_s"] = 0.1;
+  ScenarioFile f(j.dump());
+  const Scenario s = load_scenario(f.path());
+  try {
+    Simulator sim(s.build_model(), s.options);
+    FAIL() << "dt 0.1 s accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("largest safe dt"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rheo

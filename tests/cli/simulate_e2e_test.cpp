@@ -1,0 +1,239 @@
+// `rheo simulate` run as a user runs it: a subprocess writing into a directory. Checks
+// the outputs (exact §7 CSV header, VTK collection, PNG), that every kind of bad input
+// fails with a message naming the problem and leaves no output, and that clay_push's
+// force curve has the shape of seed 002's experiment.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sim/scenarios/builtin.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+RunResult run_rheo(const std::string& args) {
+  const std::string command = std::string(RHEO_BINARY) + " " + args + " 2>&1";
+  RunResult r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  while (std::fgets(buf, sizeof buf, pipe)) r.output += buf;
+  const int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// A fresh scratch directory per test, removed afterwards.
+class SimulateTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    root_ =
+        fs::temp_directory_path() /
+        ("rheo_e2e_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  std::string out() const { return (root_ / "out").string(); }
+  std::string write_scenario(const nlohmann::json& j) const {
+    const std::string path = (root_ / "scenario.json").string();
+    std::ofstream(path) << j.dump(2);
+    return path;
+  }
+  // Nothing but the scenario file: no output directory, no staging leftovers.
+  void expect_no_output() const {
+    EXPECT_FALSE(fs::exists(out()));
+    for (const auto& entry : fs::directory_iterator(root_)) {
+      EXPECT_EQ(entry.path().filename(), "scenario.json") << "left behind: " << entry.path();
+    }
+  }
+
+  fs::path root_;
+};
+
+std::vector<std::string> read_lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+struct Row {
+  double t, plate_mm, force_N, surface_mm;
+};
+
+std::vector<Row> read_rows(const std::string& path) {
+  std::vector<Row> rows;
+  bool header_seen = false;
+  for (const std::string& line : read_lines(path)) {
+    if (line.starts_with("#")) continue;
+    if (!header_seen) {
+      header_seen = true;
+      continue;
+    }
+    Row r{};
+    char comma;
+    std::istringstream(line) >> r.t >> comma >> r.plate_mm >> comma >> r.force_N >> comma >>
+        r.surface_mm;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+// Mean force over rows with t in [t0, t1].
+double mean_force(const std::vector<Row>& rows, double t0, double t1) {
+  double sum = 0.0;
+  int n = 0;
+  for (const Row& r : rows) {
+    if (r.t >= t0 && r.t <= t1) {
+      sum += r.force_N;
+      ++n;
+    }
+  }
+  return n ? sum / n : -1.0;
+}
+
+TEST_F(SimulateTest, Block5WritesTheExactCsvHeaderTheVtkSeriesAndAPng) {
+  const RunResult r = run_rheo("simulate --scenario block5 --steps 300 --quiet --out " + out());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::vector<std::string> lines = read_lines(out() + "/force.csv");
+  ASSERT_GT(lines.size(), 10u);
+  EXPECT_EQ(lines[0], "# rheo-measurement: 1");
+  EXPECT_EQ(lines[1], "# specimen_height_mm: 40");
+  EXPECT_EQ(lines[2], "# specimen_width_mm: 40");
+  EXPECT_EQ(lines[3], "# specimen_depth_mm: 40");
+  std::size_t header = 4;
+  while (header < lines.size() && lines[header].starts_with("# ")) ++header;
+  ASSERT_LT(header, lines.size());
+  EXPECT_EQ(lines[header], "time_s,plate_mm,force_N,surface_mm");
+
+  const std::vector<Row> rows = read_rows(out() + "/force.csv");
+  ASSERT_GT(rows.size(), 2u);
+  for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_GT(rows[i].t, rows[i - 1].t);
+  constexpr double kTimeResolution = 1e-9;  // the run is 300 steps of 1 ms
+  EXPECT_NEAR(rows.back().t, 0.3, kTimeResolution);
+
+  EXPECT_TRUE(fs::exists(out() + "/mesh.pvd"));
+  EXPECT_TRUE(fs::exists(out() + "/vtk/frame_000000.vtu"));
+  std::ifstream png(out() + "/plot.png", std::ios::binary);
+  char signature[8] = {};
+  png.read(signature, 8);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  EXPECT_NE(r.output.find(out() + "/force.csv"), std::string::npos) << r.output;
+}
+
+TEST_F(SimulateTest, ClayPushForceRisesDuringPushRelaxesDuringHoldAndVanishesAfterRelease) {
+  const RunResult r = run_rheo("simulate --scenario clay_push --quiet --no-plot --out " + out());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::vector<Row> rows = read_rows(out() + "/force.csv");
+  const double push_end = 9.6 / 0.5, hold_end = push_end + 47.88, release_end = hold_end + push_end;
+  // Windows of a few seconds, away from the switching instants where the mass-scaled
+  // inertia gives transients of about 0.1 s.
+  const double early_push = mean_force(rows, 4.0, 6.0);
+  const double late_push = mean_force(rows, push_end - 2.0, push_end - 0.5);
+  const double early_hold = mean_force(rows, push_end + 1.0, push_end + 3.0);
+  const double late_hold = mean_force(rows, hold_end - 3.0, hold_end - 1.0);
+  const double after_release = mean_force(rows, release_end + 2.0, release_end + 20.0);
+  EXPECT_GT(late_push, 1.5 * early_push);
+  // One relaxation time of about 128 s over the 45 s between the windows: a drop of
+  // 1 - exp(-45/128) = 30 %; at least 15 % must show.
+  EXPECT_LT(late_hold, 0.85 * early_hold);
+  EXPECT_GT(late_hold, 0.0);
+  constexpr double kNoContactForce = 1e-3;  // [N], the plate has left the surface
+  EXPECT_LT(after_release, kNoContactForce);
+  // Residual deformation: the surface came back part of the way only.
+  const double residual = rows.back().surface_mm;
+  EXPECT_GT(residual, 0.5);
+  EXPECT_LT(residual, 9.6 - 0.5);
+}
+
+TEST_F(SimulateTest, BadScenarioFailsNamingTheFieldAndWritesNothing) {
+  nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
+  j["material"]["c1"] = -2.0;
+  const std::string file = write_scenario(j);
+  const RunResult r =
+      run_rheo("simulate --scenario " + file + " --steps 10 --quiet --out " + out());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find(file + ": /material/c1: expected a non-negative"), std::string::npos)
+      << r.output;
+  expect_no_output();
+}
+
+TEST_F(SimulateTest, MalformedScenarioFileFailsWithLineAndColumnAndWritesNothing) {
+  const std::string file = (root_ / "scenario.json").string();
+  std::ofstream(file) << "{\n  \"name\": \"broken\"\n  \"mesh\": {}\n}\n";
+  const RunResult r = run_rheo("simulate --scenario " + file + " --quiet --out " + out());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find(file + ":3:"), std::string::npos) << r.output;
+  expect_no_output();
+}
+
+TEST_F(SimulateTest, UnstableTimeStepFailsWithTheLargestSafeDtAndWritesNothing) {
+  nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
+  j["integrator"]["dt_s"] = 0.05;
+  const RunResult r =
+      run_rheo("simulate --scenario " + write_scenario(j) + " --quiet --out " + out());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("largest safe dt"), std::string::npos) << r.output;
+  expect_no_output();
+}
+
+TEST_F(SimulateTest, NumericalFailureMidRunLeavesNoOutput) {
+  // With the stability check off, an oversized dt blows up after some steps.
+  nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
+  j["integrator"]["dt_s"] = 0.05;
+  j["integrator"]["check_stability"] = false;
+  const RunResult r =
+      run_rheo("simulate --scenario " + write_scenario(j) + " --quiet --out " + out());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("not finite"), std::string::npos) << r.output;
+  expect_no_output();
+}
+
+TEST_F(SimulateTest, NonEmptyOutputDirectoryIsRefusedUnlessForced) {
+  fs::create_directories(out());
+  std::ofstream(out() + "/keep.txt") << "old";
+  const RunResult refused =
+      run_rheo("simulate --scenario block5 --steps 5 --quiet --no-plot --out " + out());
+  EXPECT_NE(refused.status, 0);
+  EXPECT_NE(refused.output.find("--force"), std::string::npos) << refused.output;
+  EXPECT_TRUE(fs::exists(out() + "/keep.txt"));
+
+  const RunResult forced =
+      run_rheo("simulate --scenario block5 --steps 5 --quiet --no-plot --force --out " + out());
+  ASSERT_EQ(forced.status, 0) << forced.output;
+  EXPECT_FALSE(fs::exists(out() + "/keep.txt"));
+  EXPECT_TRUE(fs::exists(out() + "/force.csv"));
+}
+
+TEST_F(SimulateTest, ScenariosShowPrintsJsonThatSimulatesLikeTheBuiltin) {
+  const RunResult shown = run_rheo("scenarios --show block5");
+  ASSERT_EQ(shown.status, 0) << shown.output;
+  const std::string file = write_scenario(nlohmann::json::parse(shown.output));
+  const RunResult r =
+      run_rheo("simulate --scenario " + file + " --steps 5 --quiet --no-plot --out " + out());
+  EXPECT_EQ(r.status, 0) << r.output;
+}
+
+TEST_F(SimulateTest, HelpDescribesTheCommand) {
+  const RunResult r = run_rheo("simulate --help");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.output.find("--scenario"), std::string::npos);
+  EXPECT_NE(r.output.find("force.csv"), std::string::npos);
+}
+
+}  // namespace
