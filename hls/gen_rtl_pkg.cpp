@@ -93,8 +93,9 @@ int main() {
       "    endcase\n"
       "  endfunction\n\n");
   std::printf(
-      "  // Intermediate width: every product and sum of the datapath fits in it.\n"
-      "  localparam int WideW = 96;\n\n"
+      "  // Intermediate width: every product and sum of the datapath fits in it (the host\n"
+      "  // keeps coefficient shifts non-negative, so no product is shifted left).\n"
+      "  localparam int WideW = 64;\n\n"
       "  // v >> s with round to nearest (half up); s <= 0 shifts left.\n"
       "  function automatic logic signed [WideW-1:0] round_shift(\n"
       "      input logic signed [WideW-1:0] v, input int s);\n"

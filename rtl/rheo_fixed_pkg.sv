@@ -165,8 +165,9 @@ package rheo_fixed_pkg;
     endcase
   endfunction
 
-  // Intermediate width: every product and sum of the datapath fits in it.
-  localparam int WideW = 96;
+  // Intermediate width: every product and sum of the datapath fits in it (the host
+  // keeps coefficient shifts non-negative, so no product is shifted left).
+  localparam int WideW = 64;
 
   // v >> s with round to nearest (half up); s <= 0 shifts left.
   function automatic logic signed [WideW-1:0] round_shift(

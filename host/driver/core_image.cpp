@@ -42,7 +42,7 @@ long cycles_per_step_formula(int num_edges, int gather_rows, int lanes) {
   return tem_rows + kTemDrainCycles + gather_rows + kMpmDrainCycles;
 }
 
-hls::Coef encode_coef(double value, const std::string& what) {
+hls::Coef encode_coef(double value, const std::string& what, int extra_shift) {
   if (!std::isfinite(value)) throw Error(what + ": coefficient is not finite");
   hls::Coef c;
   if (value == 0.0) {
@@ -57,9 +57,10 @@ hls::Coef encode_coef(double value, const std::string& what) {
   std::frexp(std::fabs(value), &exp);          // |value| in [2^(exp-1), 2^exp)
   int shift = (hls::kCoefMantBits - 1) - exp;  // |mant| in [2^16, 2^17)
   shift = std::min(shift, kShiftMax);
-  if (shift < kShiftMin) {
+  // The datapath never shifts a product left (the RTL's 64-bit intermediates rely on it).
+  if (shift < kShiftMin || shift + extra_shift < 0) {
     throw Error(what + " = " + str(value) + " is too large for the coefficient format (max " +
-                str(std::ldexp(kMantMax, -kShiftMin)) + ")");
+                str(std::ldexp(kMantMax, -std::max(kShiftMin, -extra_shift))) + ")");
   }
   long mant = std::lround(std::ldexp(value, shift));
   if (mant > kMantMax) mant = kMantMax;
@@ -171,17 +172,19 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     const double c = m.c1 + m.c2;
     if (!(c > 0.0)) throw Error(where + "c1 + c2 must be positive for the hardware edge");
     hls::MaterialCoefs mc;
-    mc.alpha = encode_coef(m.k1 * dt / c, where + "alpha = k1 dt / (c1 + c2)");
-    mc.beta = encode_coef(m.c2 / c, where + "beta = c2 / (c1 + c2)");
-    mc.kt = encode_coef(m.k1 * m.c2 / c * Lu / Fu, where + "kt = k1 c2 / (c1 + c2)");
-    mc.ct = encode_coef(m.c1 * m.c2 / (c * dt) * Lu / Fu, where + "ct = c1 c2 / ((c1 + c2) dt)");
+    using S = hls::CoefShifts<hls::HardwareFormat>;
+    mc.alpha = encode_coef(m.k1 * dt / c, where + "alpha = k1 dt / (c1 + c2)", S::kAlpha);
+    mc.beta = encode_coef(m.c2 / c, where + "beta = c2 / (c1 + c2)", S::kBeta);
+    mc.kt = encode_coef(m.k1 * m.c2 / c * Lu / Fu, where + "kt = k1 c2 / (c1 + c2)", S::kKt);
+    mc.ct = encode_coef(m.c1 * m.c2 / (c * dt) * Lu / Fu, where + "ct = c1 c2 / ((c1 + c2) dt)",
+                        S::kCt);
     if (m.a_min > 0.0) {
-      mc.a_min = encode_coef(m.a_min, where + "a_min");
+      mc.a_min = encode_coef(m.a_min, where + "a_min", 0);
       mc.flags |= hls::kClampLowEnable;
     }
     // An upper bound the edge cannot reach inside the X range is no constraint at all.
     if (m.a_max < 1e3 && m.a_max * 2.0 * max_l0 / Lu < x_limit) {
-      mc.a_max = encode_coef(m.a_max, where + "a_max");
+      mc.a_max = encode_coef(m.a_max, where + "a_max", 0);
       mc.flags |= hls::kClampHighEnable;
     }
     img.materials.push_back(mc);
@@ -210,7 +213,8 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
                              where + " v dt");
     }
     if (!(model.mass[i] > 0.0)) throw Error(where + ": mass must be positive");
-    q.minv = encode_coef(Fu * dt * dt / (model.mass[i] * Lu), where + " dt^2 / m");
+    q.minv = encode_coef(Fu * dt * dt / (model.mass[i] * Lu), where + " dt^2 / m",
+                         hls::CoefShifts<hls::HardwareFormat>::kMinv);
     q.flags = 0;
     if (model.flags[i] == kFixed) q.flags |= hls::kCoreFixed;
     if (model.flags[i] == kPlate) q.flags |= hls::kCorePlate;

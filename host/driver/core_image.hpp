@@ -70,8 +70,10 @@ double from_x_word(std::int64_t word, const CoreImage& image);
 double from_p_word(std::int64_t word, const CoreImage& image);  // -> velocity [m/s]
 double from_f_word(std::int64_t word, const CoreImage& image);  // -> force [N]
 
-// Coefficient encoding: value = mant * 2^-shift with |mant| < 2^17 and 0 <= shift < 64.
-hls::Coef encode_coef(double value, const std::string& what);
+// Coefficient encoding: value = mant * 2^-shift with |mant| < 2^17, shift in [-16, 47]
+// and shift + extra_shift >= 0 (extra_shift: the format change of the product, see
+// hls::CoefShifts). Throws rheo::Error naming `what` when the value does not fit.
+hls::Coef encode_coef(double value, const std::string& what, int extra_shift);
 double decode_coef(const hls::Coef& c);
 
 // Frame words of the whole image (a sequence of write commands), hardware format only.
