@@ -25,6 +25,7 @@ struct CosimArgs {
   long steps = 0;
   int lanes = 1;
   std::string trace;
+  long trace_steps = 100;
   std::string out;
   int compare_every = 1;
   bool quiet = false;
@@ -41,6 +42,7 @@ void run(const CosimArgs& args) {
   opt.steps = args.steps > 0 ? args.steps : scenario.default_steps();
   opt.lanes = args.lanes;
   opt.trace_fst = args.trace;
+  opt.trace_steps = args.trace_steps;
   opt.compare_every = args.compare_every;
   const bool show = !args.quiet && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
@@ -83,7 +85,10 @@ void run(const CosimArgs& args) {
   j["dt_s"] = r.dt_s;
   j["compare_every_steps"] = opt.compare_every;
   j["reference_features_dropped"] = r.dropped_features;
-  if (!args.trace.empty()) j["trace"] = args.trace;
+  if (!args.trace.empty()) {
+    j["trace"] = args.trace;
+    j["trace_steps"] = args.trace_steps == 0 ? r.steps : std::min(args.trace_steps, r.steps);
+  }
   std::ofstream(fs::path(args.out) / "cosim.json") << j.dump(2) << "\n";
 
   std::cout << "cosim " << scenario.name << ": " << r.steps << " steps, " << r.lanes
@@ -115,7 +120,11 @@ void register_cosim(CLI::App& app) {
   cmd->add_option("--steps", args->steps, "number of steps (default: the scenario's duration)");
   cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of the core (1 or 2)")
       ->check(CLI::Range(1, 2));
-  cmd->add_option("--trace", args->trace, "write an FST waveform to this file");
+  cmd->add_option("--trace", args->trace,
+                  "write an FST waveform to this file (open with scripts/rheo_core.gtkw)");
+  cmd->add_option("--trace-steps", args->trace_steps,
+                  "steps covered by the waveform, from the start (default 100, 0 = all: about "
+                  "0.8 MB per step on block5)");
   cmd->add_option("--compare-every", args->compare_every,
                   "read back and compare the RTL particle state every K steps (default 1)")
       ->check(CLI::PositiveNumber);

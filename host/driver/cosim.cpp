@@ -79,6 +79,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   long step = 0;
   while (step < opt.steps) {
     const long batch = std::min<long>(opt.compare_every, opt.steps - step);
+    rtl_raw->set_tracing(opt.trace_steps == 0 || step < opt.trace_steps);
     std::vector<std::int32_t> plate_words(batch);
     std::vector<double> plate_z(batch);
     for (long b = 0; b < batch; ++b) {

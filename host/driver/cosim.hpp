@@ -17,6 +17,7 @@ struct CosimOptions {
   long steps = 1000;
   int lanes = 1;
   std::string trace_fst;           // empty: no waveform
+  long trace_steps = 100;          // waveform covers the first N steps (0: the whole run)
   int compare_every = 1;           // read and compare the RTL particle state every K steps
   double input_idle_prob = 0.0;    // random idle cycles on s_axis
   double output_stall_prob = 0.0;  // random back-pressure on m_axis

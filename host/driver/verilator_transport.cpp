@@ -23,6 +23,7 @@ class VerilatorTransport::Impl {
   virtual ~Impl() = default;
   virtual void send(const std::vector<std::uint32_t>& words) = 0;
   virtual std::vector<std::uint32_t> receive(std::size_t n) = 0;
+  bool tracing = true;
   std::uint64_t cycles = 0;
   double wall = 0.0;
 };
@@ -99,11 +100,11 @@ class Harness : public VerilatorTransport::Impl {
     const bool in_fire = model_->s_axis_tvalid && model_->s_axis_tready;
     const bool out_fire = model_->m_axis_tvalid && model_->m_axis_tready;
     const std::uint32_t out_word = model_->m_axis_tdata;
-    if (fst_) fst_->dump(ctx_->time());
+    if (fst_ && tracing) fst_->dump(ctx_->time());
     ctx_->timeInc(1);
     model_->clk_i = 1;
     model_->eval();
-    if (fst_) fst_->dump(ctx_->time());
+    if (fst_ && tracing) fst_->dump(ctx_->time());
     ctx_->timeInc(1);
     if (in_fire) in_.pop_front();
     if (out_fire) out_.push_back(out_word);
@@ -136,5 +137,6 @@ std::vector<std::uint32_t> VerilatorTransport::receive(std::size_t n) { return i
 std::string VerilatorTransport::name() const { return "RTL core (Verilator)"; }
 std::uint64_t VerilatorTransport::cycles() const { return impl_->cycles; }
 double VerilatorTransport::wall_seconds() const { return impl_->wall; }
+void VerilatorTransport::set_tracing(bool on) { impl_->tracing = on; }
 
 }  // namespace rheo::driver

@@ -29,6 +29,8 @@ class VerilatorTransport : public Transport {
   std::vector<std::uint32_t> receive(std::size_t n) override;
   std::string name() const override;
 
+  // With a trace file: dump waveforms only while enabled (on from the start).
+  void set_tracing(bool on);
   std::uint64_t cycles() const;  // clocks simulated so far
   double wall_seconds() const;   // wall time spent clocking the model
 
