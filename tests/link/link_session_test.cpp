@@ -12,8 +12,10 @@
 #include "host/driver/device.hpp"
 #include "host/driver/frame_format.hpp"
 #include "host/driver/link/cosim_server.hpp"
+#include "host/driver/link/device_factory.hpp"
 #include "host/driver/link/frame_channel.hpp"
 #include "host/driver/link/link_error.hpp"
+#include "host/driver/link/null_core.hpp"
 #include "host/driver/link/remote_transport.hpp"
 #include "host/driver/link/socket_transport.hpp"
 #include "host/driver/link/streaming_run.hpp"
@@ -355,6 +357,59 @@ TEST(LinkFaults, HostProcessCanStartANewSessionAfterAFault) {
   const FaultOutcome clean = run_with_fault({});
   EXPECT_FALSE(clean.fault.has_value()) << clean.message;
   EXPECT_EQ(clean.forces_delivered, kSteps);
+}
+
+}  // namespace
+}  // namespace rheo::link
+
+namespace rheo::link {
+namespace {
+
+TEST(DeviceFactory, BitTrueBackendRunsLikeTheInProcessDevice) {
+  const Workload& w = workload();
+  BackendOptions options;
+  options.lanes = kLanes;
+  Backend backend = make_device("bittrue", options);
+  EXPECT_EQ(backend.lanes, kLanes);
+  backend.device->load(w.image);
+  driver::Device local(std::make_unique<driver::BitTrueTransport>(kLanes));
+  local.load(w.image);
+  const auto plates = w.plate_words(0, 50);
+  EXPECT_EQ(backend.device->run(plates), local.run(plates));
+}
+
+TEST(DeviceFactory, RefusesRefAndUnknownBackendsNamingTheAcceptedValues) {
+  try {
+    make_device("ref");
+    FAIL() << "ref accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("reference model"), std::string::npos) << e.what();
+  }
+  try {
+    make_device("fpga");
+    FAIL() << "fpga accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("remote:PATH"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DeviceFactory, RemoteBackendWithoutAServerFailsWithinTheTimeout) {
+  BackendOptions options;
+  options.timeout = kShortTimeout;
+  try {
+    make_device("remote:/tmp/rheo-link-test-no-such-dir/none.sock", options);
+    FAIL() << "connected to nothing";
+  } catch (const LinkError& e) {
+    EXPECT_EQ(e.fault(), LinkFault::kTimeout) << e.what();
+  }
+}
+
+TEST(NullCore, AnswersEveryCommandWithTheOwedNumberOfWordsAndACleanStatus) {
+  driver::Device device(std::make_unique<NullCore>(kLanes));
+  device.load(workload().image);
+  EXPECT_EQ(device.run({1, 2, 3}), (std::vector<std::int32_t>{0, 0, 0}));
+  EXPECT_EQ(device.read_particle_state(0, 4).size(), 24u);
+  EXPECT_EQ(device.read_status(false).lanes, std::uint32_t(kLanes));
 }
 
 }  // namespace
