@@ -9,19 +9,24 @@
 namespace rheo::driver {
 namespace {
 
-// block5 runs 10 s at dt = 0.5 ms = 20,000 steps: 10,000 cover the push, the hold and the
-// start of the release.
+// 10,000 steps of block5 cover its push, hold and release (10 s at dt = 1 ms with the
+// built-in scenario at the time of writing).
 constexpr long kLongRunSteps = 10000;
 // Measured cycles per step may differ from the formula by at most 2 % (issue 3).
 constexpr double kCycleFormulaTolerance = 0.02;
 // Fixed point against double after 10,000 steps: positions within 1e-3 of the object size
 // (design.md §5 target; quantisation of x (2^-27 units) and p (2^-31 units) per step).
 constexpr double kMaxPositionErrorRel = 1e-3;
+// The plate-force word is compared every step; the 750 particle state words every 5th
+// step, which keeps the read-back clocks (2 per word) from dominating the test time.
+// `rheo cosim` compares the state at every step by default.
+constexpr int kCompareStateEvery = 5;
 
 void expect_bit_exact(int lanes, long steps) {
   CosimOptions opt;
   opt.steps = steps;
   opt.lanes = lanes;
+  opt.compare_every = kCompareStateEvery;
   const CosimResult r = run_cosim(load_scenario("block5"), opt);
   ASSERT_EQ(r.mismatches, 0) << r.first.front().describe();
   EXPECT_EQ(r.steps, steps);
