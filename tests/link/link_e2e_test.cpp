@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "host/driver/device.hpp"
+#include "host/driver/link/backend_run.hpp"
 #include "host/driver/link/link_error.hpp"
 #include "host/driver/link/remote_transport.hpp"
 #include "host/driver/link/streaming_run.hpp"
@@ -198,6 +199,36 @@ TEST(CosimServer, ServesAFreshCoreToTheNextHostAfterOneLeaves) {
     remote->run({w.plate_word(0), w.plate_word(1)});
     EXPECT_EQ(remote->read_status(false).step_count, 2u) << "session " << session;
   }
+}
+
+}  // namespace
+}  // namespace rheo::link
+
+namespace rheo::link {
+namespace {
+
+TEST(CosimServer, RemoteBackendGivesTheSameForceHistoryAsTheRtlBackendNumberForNumber) {
+  ServerProcess server;
+  auto record = [](const std::string& backend) {
+    BackendRunOptions o;
+    o.backend = backend;
+    o.lanes = kLanes;
+    o.steps = 300;
+    o.state_every = 150;
+    o.timeout = kServerTimeout;
+    std::vector<double> force_N;
+    std::vector<std::vector<Vec3>> positions;
+    run_scenario_on_backend(
+        workload().scenario, o,
+        {[&](const BackendStep& s) { force_N.push_back(s.force_N); },
+         [&](std::uint64_t, const std::vector<Vec3>& x) { positions.push_back(x); }});
+    return std::make_pair(force_N, positions);
+  };
+  const auto rtl = record("rtl");
+  const auto remote = record("remote:" + server.socket());
+  ASSERT_EQ(rtl.first.size(), 300u);
+  EXPECT_EQ(remote.first, rtl.first);
+  EXPECT_EQ(remote.second, rtl.second);
 }
 
 }  // namespace

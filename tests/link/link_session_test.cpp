@@ -6,11 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
 #include <thread>
 
 #include "host/driver/bittrue_transport.hpp"
 #include "host/driver/device.hpp"
 #include "host/driver/frame_format.hpp"
+#include "host/driver/link/backend_run.hpp"
 #include "host/driver/link/cosim_server.hpp"
 #include "host/driver/link/device_factory.hpp"
 #include "host/driver/link/frame_channel.hpp"
@@ -410,6 +412,77 @@ TEST(NullCore, AnswersEveryCommandWithTheOwedNumberOfWordsAndACleanStatus) {
   EXPECT_EQ(device.run({1, 2, 3}), (std::vector<std::int32_t>{0, 0, 0}));
   EXPECT_EQ(device.read_particle_state(0, 4).size(), 24u);
   EXPECT_EQ(device.read_status(false).lanes, std::uint32_t(kLanes));
+}
+
+}  // namespace
+}  // namespace rheo::link
+
+namespace rheo::link {
+namespace {
+
+// `serve` with the bit-true core on a socket in a temporary directory, in a thread.
+class SocketServerThread {
+ public:
+  SocketServerThread() {
+    char t[] = "/tmp/rheo-link-session-XXXXXX";
+    if (!::mkdtemp(t)) throw Error("mkdtemp");
+    dir_ = t;
+    listener_ = std::make_unique<SocketListener>(dir_ + "/core.sock");
+    options_.lanes = kLanes;
+    options_.stop = &stop_;
+    thread_ = std::thread([this] {
+      serve(
+          *listener_, [] { return std::make_unique<driver::BitTrueTransport>(kLanes); }, options_);
+    });
+  }
+  ~SocketServerThread() {
+    stop_ = true;
+    thread_.join();
+    listener_.reset();
+    std::filesystem::remove_all(dir_);
+  }
+  std::string backend() const { return "remote:" + listener_->path(); }
+
+ private:
+  std::string dir_;
+  std::unique_ptr<SocketListener> listener_;
+  std::atomic<bool> stop_{false};
+  ServerOptions options_;
+  std::thread thread_;
+};
+
+struct Recorded {
+  std::vector<double> force_N, plate_mm;
+  std::vector<std::vector<Vec3>> positions;
+};
+
+Recorded record(const std::string& backend) {
+  BackendRunOptions o;
+  o.backend = backend;
+  o.lanes = kLanes;
+  o.steps = 250;
+  o.state_every = 100;
+  Recorded r;
+  run_scenario_on_backend(
+      workload().scenario, o,
+      {[&](const BackendStep& s) {
+         r.force_N.push_back(s.force_N);
+         r.plate_mm.push_back(s.plate_mm);
+       },
+       [&](std::uint64_t, const std::vector<Vec3>& x) { r.positions.push_back(x); }});
+  return r;
+}
+
+TEST(BackendRun, RemoteAndInProcessBitTrueGiveIdenticalForcesAndPositions) {
+  SocketServerThread server;
+  const Recorded local = record("bittrue");
+  const Recorded remote = record(server.backend());
+  ASSERT_EQ(local.force_N.size(), 250u);
+  EXPECT_EQ(remote.force_N, local.force_N);
+  EXPECT_EQ(remote.plate_mm, local.plate_mm);
+  EXPECT_EQ(remote.positions, local.positions);
+  EXPECT_EQ(local.positions.size(), 2u);
+  EXPECT_GT(local.plate_mm.back(), 0.0);
 }
 
 }  // namespace
