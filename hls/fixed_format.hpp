@@ -96,6 +96,12 @@ inline constexpr int kMaxGather = 131072 + 8192;  // incidences + padding for la
 inline constexpr int kMaxMaterials = 16;
 inline constexpr int kMaxLanes = 4;
 
+// Pipeline drains of the core (rtl/rheo_core.sv), part of the cycles-per-step formula:
+// TEM: edge read, particle read, 18 TEM stages, write; MPM: gather read, force read,
+// accumulate, particle read, 5 MPM stages, write.
+inline constexpr int kTemDrainCycles = 21;
+inline constexpr int kMpmDrainCycles = 10;
+
 // Accumulator widths: particle force sums and the plate force keep guard bits and
 // saturate only when they are narrowed to a word (so the sums do not depend on the order
 // in which lanes deliver them). The host keeps every particle's degree below 2^8.

@@ -45,6 +45,8 @@ int main() {
   param("ShiftCt", Shifts::kCt, "extra shift of ct*ldot: P -> F");
   param("ShiftClamp", Shifts::kClamp, "extra shift of a*l: X -> X");
   param("ShiftMinv", Shifts::kMinv, "extra shift of minv*F: F -> P");
+  param("TemDrain", h::kTemDrainCycles, "clocks from the last TEM issue to its write");
+  param("MpmDrain", h::kMpmDrainCycles, "clocks from the last gather issue to its write");
   param("ForceAccW", Fmt::kWidth + h::kForceAccGuardBits, "per-particle force sum");
   param("PlateAccW", Fmt::kWidth + h::kPlateAccGuardBits, "plate force sum");
   param("StatusTemSat", h::kStatusTemSaturated, "status bit");

@@ -50,8 +50,8 @@ module rheo_core #(
   // Clocks from the last TEM issue until its force is written: edge read, particle read,
   // 18 TEM stages, write. From the last gather issue until the particle is written:
   // gather read, force read, accumulate, particle read, 5 MPM stages, write.
-  localparam int TemDrain = 21;
-  localparam int MpmDrain = 10;
+  localparam int TemDrain = rheo_fixed_pkg::TemDrain;
+  localparam int MpmDrain = rheo_fixed_pkg::MpmDrain;
 
   if (W != rheo_fixed_pkg::Width || CoefW != rheo_fixed_pkg::CoefW) begin : g_check
     $error("rheo_core: W/CoefW must match rheo_fixed_pkg");

@@ -22,6 +22,8 @@ package rheo_fixed_pkg;
   localparam int ShiftCt = 11;  // extra shift of ct*ldot: P -> F
   localparam int ShiftClamp = 0;  // extra shift of a*l: X -> X
   localparam int ShiftMinv = -11;  // extra shift of minv*F: F -> P
+  localparam int TemDrain = 21;  // clocks from the last TEM issue to its write
+  localparam int MpmDrain = 10;  // clocks from the last gather issue to its write
   localparam int ForceAccW = 40;  // per-particle force sum
   localparam int PlateAccW = 48;  // plate force sum
   localparam int StatusTemSat = 1;  // status bit

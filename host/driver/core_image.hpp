@@ -49,8 +49,8 @@ struct CoreImage {
 
 // Compute clocks per step of the RTL core (rtl/rheo_core.sv header):
 //   max(ceil(E / lanes), 1) + TemDrain + G + MpmDrain.
-inline constexpr int kTemDrainCycles = 21;
-inline constexpr int kMpmDrainCycles = 10;
+inline constexpr int kTemDrainCycles = hls::kTemDrainCycles;
+inline constexpr int kMpmDrainCycles = hls::kMpmDrainCycles;
 long cycles_per_step_formula(int num_edges, int gather_rows, int lanes);
 
 // Builds the image of `model` in `state` for time step dt. Throws rheo::Error on values

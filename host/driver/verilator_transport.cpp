@@ -24,6 +24,8 @@ class VerilatorTransport::Impl {
   virtual void send(const std::vector<std::uint32_t>& words) = 0;
   virtual std::vector<std::uint32_t> receive(std::size_t n) = 0;
   bool tracing = true;
+  std::vector<std::size_t> frame_lengths;  // completed response frames (tlast seen)
+  std::size_t open_frame = 0;              // words of the frame in progress
   std::uint64_t cycles = 0;
   double wall = 0.0;
 };
@@ -100,6 +102,7 @@ class Harness : public VerilatorTransport::Impl {
     const bool in_fire = model_->s_axis_tvalid && model_->s_axis_tready;
     const bool out_fire = model_->m_axis_tvalid && model_->m_axis_tready;
     const std::uint32_t out_word = model_->m_axis_tdata;
+    const bool out_last = model_->m_axis_tlast;
     if (fst_ && tracing) fst_->dump(ctx_->time());
     ctx_->timeInc(1);
     model_->clk_i = 1;
@@ -107,7 +110,14 @@ class Harness : public VerilatorTransport::Impl {
     if (fst_ && tracing) fst_->dump(ctx_->time());
     ctx_->timeInc(1);
     if (in_fire) in_.pop_front();
-    if (out_fire) out_.push_back(out_word);
+    if (out_fire) {
+      out_.push_back(out_word);
+      ++open_frame;
+      if (out_last) {
+        frame_lengths.push_back(open_frame);
+        open_frame = 0;
+      }
+    }
     ++cycles;
     wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
@@ -138,5 +148,8 @@ std::string VerilatorTransport::name() const { return "RTL core (Verilator)"; }
 std::uint64_t VerilatorTransport::cycles() const { return impl_->cycles; }
 double VerilatorTransport::wall_seconds() const { return impl_->wall; }
 void VerilatorTransport::set_tracing(bool on) { impl_->tracing = on; }
+const std::vector<std::size_t>& VerilatorTransport::output_frame_lengths() const {
+  return impl_->frame_lengths;
+}
 
 }  // namespace rheo::driver

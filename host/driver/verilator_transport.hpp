@@ -29,6 +29,8 @@ class VerilatorTransport : public Transport {
   std::vector<std::uint32_t> receive(std::size_t n) override;
   std::string name() const override;
 
+  // Lengths of the response frames seen so far (words between m_axis_tlast markers).
+  const std::vector<std::size_t>& output_frame_lengths() const;
   // With a trace file: dump waveforms only while enabled (on from the start).
   void set_tracing(bool on);
   std::uint64_t cycles() const;  // clocks simulated so far

@@ -48,19 +48,22 @@ TEST_P(StreamTest, RandomIdleAndBackPressureOnBothSidesKeepResultsBitExact) {
 
 INSTANTIATE_TEST_SUITE_P(Lanes, StreamTest, ::testing::Values(1, 2));
 
-std::unique_ptr<Device> rtl_device(int lanes) {
+std::unique_ptr<Device> rtl_device(int lanes, VerilatorTransport** raw = nullptr) {
   VerilatorOptions vo;
   vo.lanes = lanes;
   vo.input_idle_prob = kIdleProb;
   vo.output_stall_prob = kStallProb;
-  return std::make_unique<Device>(std::make_unique<VerilatorTransport>(vo));
+  auto t = std::make_unique<VerilatorTransport>(vo);
+  if (raw) *raw = t.get();
+  return std::make_unique<Device>(std::move(t));
 }
 
 TEST(Stream, StatusCountsStepsReadsBackAndClearsOnRequest) {
   const Scenario s = small_block();
   const Model m = s.build_model();
   const CoreImage img = make_core_image(m, initial_state(m), s.options.dt, 1);
-  auto dev = rtl_device(1);
+  VerilatorTransport* raw = nullptr;
+  auto dev = rtl_device(1, &raw);
   dev->load(img);
   // Read-back of what was loaded: the Voigt lengths start at d = L.
   const std::vector<std::int32_t> d = dev->read_voigt_lengths(0, 4);
@@ -76,6 +79,10 @@ TEST(Stream, StatusCountsStepsReadsBackAndClearsOnRequest) {
   EXPECT_TRUE(dev->read_status(true).flags & hls::kStatusBadCommand);
   st = dev->read_status(false);
   EXPECT_EQ(st.flags, 0u);
+  // m_axis_tlast closes every response: load's status (4), the read (4), the run (3), then
+  // the statuses (4 each).
+  const std::vector<std::size_t> expected = {4, 4, 3, 4, 4, 4, 4};
+  EXPECT_EQ(raw->output_frame_lengths(), expected);
 }
 
 TEST(Stream, UnknownOpcodeRaisesTheBadCommandFlag) {
