@@ -33,7 +33,7 @@ using testing::ReceiveFault;
 // Long enough for a loaded CI machine to answer a small block's chunk, short enough that the
 // timeout test finishes quickly.
 constexpr Milliseconds kTestTimeout{3000};
-constexpr Milliseconds kShortTimeout{300};
+constexpr Milliseconds kShortTimeout{1000};
 constexpr int kLanes = 2;
 constexpr std::uint64_t kSteps = 300;
 // The server's hello frame: header, three words, CRC.
