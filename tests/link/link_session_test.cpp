@@ -33,6 +33,8 @@ using testing::ReceiveFault;
 // Long enough for a loaded CI machine to answer a small block's chunk, short enough that the
 // timeout test finishes quickly.
 constexpr Milliseconds kTestTimeout{3000};
+// The bound in the timeout tests: long enough for a sanitizer build to answer a status on a
+// loaded machine, short enough to keep those tests at about a second.
 constexpr Milliseconds kShortTimeout{1000};
 constexpr int kLanes = 2;
 constexpr std::uint64_t kSteps = 300;
