@@ -30,8 +30,8 @@ namespace {
 using testing::FaultyByteTransport;
 using testing::ReceiveFault;
 
-// Long enough for a loaded CI machine to answer a small block's chunk, short enough that the
-// timeout test finishes quickly.
+// Bounds every wait outside the timeout tests: long enough for a loaded CI machine to answer a
+// small block's chunk, short enough that a hang fails the test within seconds.
 constexpr Milliseconds kTestTimeout{3000};
 // The bound in the timeout tests: long enough for a sanitizer build to answer a status on a
 // loaded machine, short enough to keep those tests at about a second.
