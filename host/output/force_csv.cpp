@@ -1,6 +1,7 @@
 #include "host/output/force_csv.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 
 #include "sim/error.hpp"
@@ -46,6 +47,12 @@ ForceCsvWriter::~ForceCsvWriter() {
 }
 
 void ForceCsvWriter::write_row(double time_s, double plate_mm, double force_N, double surface_mm) {
+  // A NaN surface means "not measured at this row": the §7 column stays empty.
+  if (std::isnan(surface_mm)) {
+    std::fprintf(file_, "%.*f,%.*f,%.*g,\n", time_decimals_, time_s, kMillimetreDecimals, plate_mm,
+                 kForceSignificantDigits, force_N);
+    return;
+  }
   std::fprintf(file_, "%.*f,%.*f,%.*g,%.*f\n", time_decimals_, time_s, kMillimetreDecimals,
                plate_mm, kForceSignificantDigits, force_N, kMillimetreDecimals, surface_mm);
 }

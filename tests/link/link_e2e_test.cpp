@@ -6,6 +6,9 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -229,6 +232,28 @@ TEST(CosimServer, RemoteBackendGivesTheSameForceHistoryAsTheRtlBackendNumberForN
   ASSERT_EQ(rtl.first.size(), 300u);
   EXPECT_EQ(remote.first, rtl.first);
   EXPECT_EQ(remote.second, rtl.second);
+}
+
+// The acceptance check through the command line: `rheo simulate --backend remote:PATH`
+// writes the same force CSV, byte for byte, as `--backend rtl`.
+TEST(CosimServer, SimulateWithTheRemoteBackendWritesTheSameCsvByteForByteAsTheRtlBackend) {
+  ServerProcess server;
+  const std::string dir = std::filesystem::path(server.socket()).parent_path().string();
+  auto simulate = [&](const std::string& backend, const std::string& out) {
+    const std::string command = std::string(RHEO_BINARY) +
+                                " simulate --scenario block5 --steps 400 --quiet --no-plot" +
+                                " --lanes 2 --backend " + backend + " --out " + out;
+    return std::system(command.c_str());
+  };
+  ASSERT_EQ(simulate("rtl", dir + "/rtl"), 0);
+  ASSERT_EQ(simulate("remote:" + server.socket(), dir + "/remote"), 0);
+  auto slurp = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string rtl_csv = slurp(dir + "/rtl/force.csv");
+  ASSERT_GT(rtl_csv.size(), 1000u);
+  EXPECT_EQ(slurp(dir + "/remote/force.csv"), rtl_csv);
 }
 
 }  // namespace
