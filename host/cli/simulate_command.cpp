@@ -313,7 +313,8 @@ void register_simulate(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "simulate",
       "Run a scenario (mesh, material, plate protocol) on the double-precision reference model "
-      "and write into --out: force.csv (plate force history, design.md section 7 columns "
+      "(or, with --backend, on the bit-true model, the RTL core or a cosim-server) and write into "
+      "--out: force.csv (plate force history, design.md section 7 columns "
       "time_s,plate_mm,force_N,surface_mm), mesh.pvd + vtk/*.vtu (VTK time series for "
       "ParaView: particles, edges, velocity, edge tension) and plot.png (force and "
       "displacements against time, drawn by gnuplot). Results are staged in a temporary "
