@@ -112,6 +112,7 @@ inline constexpr int kPlateAccGuardBits = 16;
 //   ddot*dt = beta * ldot (P -> P)  - alpha * (d - L) (X -> P)
 //   T = kt * (d - L) (X -> F) + ct * ldot (P -> F)
 //   clamp bounds a * l (X -> X);  dp = minv * F (F -> P)
+//   Maxwell arm: dm = ldot - gamma * m (X -> P);  T += k2t * m (X -> F)
 template <class Fmt>
 struct CoefShifts {
   static constexpr int kBeta = 0;
@@ -120,6 +121,8 @@ struct CoefShifts {
   static constexpr int kCt = Fmt::kFracP - Fmt::kFracF;
   static constexpr int kClamp = 0;
   static constexpr int kMinv = Fmt::kFracF - Fmt::kFracP;
+  static constexpr int kGamma = Fmt::kFracX - Fmt::kFracP;
+  static constexpr int kK2t = Fmt::kFracX - Fmt::kFracF;
 };
 
 }  // namespace rheo::hls

@@ -45,6 +45,8 @@ int main() {
   param("ShiftCt", Shifts::kCt, "extra shift of ct*ldot: P -> F");
   param("ShiftClamp", Shifts::kClamp, "extra shift of a*l: X -> X");
   param("ShiftMinv", Shifts::kMinv, "extra shift of minv*F: F -> P");
+  param("ShiftGamma", Shifts::kGamma, "extra shift of gamma*m: X -> P");
+  param("ShiftK2t", Shifts::kK2t, "extra shift of k2t*m: X -> F");
   param("TemDrain", h::kTemDrainCycles, "clocks from the last TEM issue to its write");
   param("MpmDrain", h::kMpmDrainCycles, "clocks from the last gather issue to its write");
   param("ForceAccW", Fmt::kWidth + h::kForceAccGuardBits, "per-particle force sum");
@@ -69,7 +71,10 @@ int main() {
   param("RegionMaterial", f::kRegionMaterial, "region");
   param("RegionGather", f::kRegionGather, "region");
   param("RegionEdgeLength", f::kRegionEdgeLength, "region");
+  param("RegionMaterialArm", f::kRegionMaterialArm, "region");
+  param("RegionEdgeArm", f::kRegionEdgeArm, "region");
   param("NumRegions", f::kNumRegions, "regions");
+  param("NumBaseRegions", f::kNumBaseRegions, "regions of a core without the Maxwell arm");
   param("StatusWords", f::kStatusWords, "words of a status response");
   std::printf("\n  // Words per entry of each region.\n");
   std::printf(

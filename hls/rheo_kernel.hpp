@@ -11,6 +11,10 @@
 //     dd = beta * ldot - alpha * ds          (Voigt length change per step)
 //     T  = kt * ds + ct * ldot               (= k1 (d-L) + c1 ddot, folded)
 //     F_k = T * u;  d <- clamp(d + dd, a_min l, a_max l)
+//   with the parallel Maxwell arm (template flag MaxwellArm, RTL parameter of the same
+//   name), per edge state m (the arm spring's extension, X format):
+//     dm = ldot - gamma * m                  (gamma = k2 dt / c3)
+//     T += k2t * m;  m <- m + dm             (k2t = k2 in force units per length unit)
 //   MPM, per particle i, one per clock, after its incident edges are gathered in the
 //   host-given order (the gather table):
 //     f = sum of +F_k (i = s) and -F_k (i = e)
@@ -120,19 +124,22 @@ inline RsqrtResult rsqrt_l2(i128 l2) {
 struct MaterialCoefs {
   Coef alpha, beta, kt, ct, a_min, a_max;
   std::uint32_t flags = 0;  // MaterialFlag
+  Coef gamma, k2t;          // Maxwell arm (read only by a MaxwellArm kernel)
 };
 
 struct TemIn {
   std::int64_t xs[3], xe[3], ps[3], pe[3];
   std::int64_t d, L;
+  std::int64_t m = 0;  // Maxwell-arm extension (X format)
 };
 
 struct TemOut {
-  std::int64_t f[3];  // force on the start particle (F format); the end gets -f
-  std::int64_t d;     // new Voigt length (X format)
+  std::int64_t f[3];   // force on the start particle (F format); the end gets -f
+  std::int64_t d;      // new Voigt length (X format)
+  std::int64_t m = 0;  // new Maxwell-arm extension (X format; 0 without the arm)
 };
 
-template <class Fmt>
+template <class Fmt, bool MaxwellArm = false>
 inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* status) {
 #pragma HLS PIPELINE II = 1
   constexpr int W = Fmt::kWidth;
@@ -161,10 +168,21 @@ inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* s
   const std::int64_t dd = saturate(i128(dd_beta) - dd_alpha, W, status, kFlag);
   const std::int64_t t_spring = mul_coef<Fmt>(ds, m.kt, S::kKt, status, kFlag);
   const std::int64_t t_damper = mul_coef<Fmt>(ldot, m.ct, S::kCt, status, kFlag);
-  const std::int64_t tension = saturate(i128(t_spring) + t_damper, W, status, kFlag);
+  TemOut out;
+  std::int64_t tension;
+  if constexpr (MaxwellArm) {
+    // The arm's two products sit beside the other coefficient products (RTL stage 14);
+    // its force joins the tension in one wide sum, so it saturates once.
+    const std::int64_t m_decay = mul_coef<Fmt>(in.m, m.gamma, S::kGamma, status, kFlag);
+    const std::int64_t t_arm = mul_coef<Fmt>(in.m, m.k2t, S::kK2t, status, kFlag);
+    tension = saturate(i128(t_spring) + t_damper + t_arm, W, status, kFlag);
+    const std::int64_t dm = saturate(i128(ldot) - m_decay, W, status, kFlag);
+    out.m = saturate(i128(in.m) + shift_round<R>(dm, Fmt::kFracP - Fmt::kFracX), W, status, kFlag);
+  } else {
+    tension = saturate(i128(t_spring) + t_damper, W, status, kFlag);
+  }
   const std::int64_t lo = mul_coef<Fmt>(l, m.a_min, S::kClamp, status, kFlag);
   const std::int64_t hi = mul_coef<Fmt>(l, m.a_max, S::kClamp, status, kFlag);
-  TemOut out;
   for (int i = 0; i < 3; ++i)
     out.f[i] = saturate(shift_round<R>(i128(tension) * u[i], kFracU), W, status, kFlag);
   std::int64_t d_new =
@@ -249,6 +267,7 @@ struct GatherEntry {
 struct EdgeEntry {
   std::uint32_t s = 0, e = 0, material = 0;
   std::int64_t L = 0, d = 0;
+  std::int64_t m = 0;  // Maxwell-arm extension (used by a MaxwellArm core only)
 };
 
 struct CoreMemory {
@@ -268,7 +287,7 @@ struct CoreMemory {
 // One time step; returns the plate force word (F format). Edge and gather loops are the
 // TEM and MPM passes of the core; their order does not change any result (forces are
 // summed per particle in gather order, the plate force in a wide accumulator).
-template <class Fmt>
+template <class Fmt, bool MaxwellArm = false>
 inline std::int64_t core_step(CoreMemory& mem) {
   constexpr int W = Fmt::kWidth;
 tem_pass:
@@ -287,9 +306,11 @@ tem_pass:
     }
     in.d = edge.d;
     in.L = edge.L;
-    const TemOut out = tem_edge<Fmt>(in, mem.materials[edge.material], &mem.status);
+    in.m = edge.m;
+    const TemOut out = tem_edge<Fmt, MaxwellArm>(in, mem.materials[edge.material], &mem.status);
     for (int i = 0; i < 3; ++i) mem.edge_force[k][i] = out.f[i];
     edge.d = out.d;
+    if constexpr (MaxwellArm) edge.m = out.m;
   }
   // One accumulator per lane: the gather table interleaves the lanes' entries
   // (entry t belongs to lane t % lanes), each lane's entries grouped by particle.

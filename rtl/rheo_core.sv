@@ -16,6 +16,10 @@
 // Compute clocks per step (counted in status word 2):
 //   ceil(E / Lanes) + TemDrain + G + MpmDrain,   G = max over lanes of
 //   sum over the lane's particles of max(degree, 1)   (host: gather_rows()).
+// MaxwellArm = 1 builds the variant with the parallel Maxwell arm in every TEM: per edge
+// the arm's extension m (region EdgeArm, read and written like d) and per material
+// gamma and k2t (region MaterialArm). Same cycles per step. MaxwellArm = 0 is the baseline
+// core (the arm regions are refused as bad commands).
 // Memories: every array has one write port per lane and synchronous reads; the particle
 // arrays are read by 2 TEM ports + 1 MPM port per lane (replicated RAMB16 in a
 // synthesis for Virtex-II, see docs/hardware.md).
@@ -26,7 +30,8 @@ module rheo_core #(
   parameter int MaxGather = 139264,     // gather table depth (rows * Lanes)
   parameter int MaxMaterials = 16,      // material table depth
   parameter int W = 32,                 // stream and state word width
-  parameter int CoefW = 24              // packed coefficient width
+  parameter int CoefW = 24,             // packed coefficient width
+  parameter int MaxwellArm = 0          // 1: TEMs with the parallel Maxwell arm
 ) (
   input  logic         clk_i,
   input  logic         rst_ni,
@@ -52,6 +57,9 @@ module rheo_core #(
   // gather read, force read, accumulate, particle read, 5 MPM stages, write.
   localparam int TemDrain = rheo_fixed_pkg::TemDrain;
   localparam int MpmDrain = rheo_fixed_pkg::MpmDrain;
+  localparam int NumCoef = (MaxwellArm != 0) ? 8 : 6;
+  localparam int CoreRegions =
+      (MaxwellArm != 0) ? rheo_fixed_pkg::NumRegions : rheo_fixed_pkg::NumBaseRegions;
 
   if (W != rheo_fixed_pkg::Width || CoefW != rheo_fixed_pkg::CoefW) begin : g_check
     $error("rheo_core: W/CoefW must match rheo_fixed_pkg");
@@ -134,9 +142,19 @@ module rheo_core #(
   logic [EIdxW-1:0] tem_idx [Lanes];
   logic [3*W-1:0] tem_f [Lanes];
   logic [W-1:0] tem_d [Lanes];
+  // Maxwell arm lane signals (driven in g_arm_mem; constant 0 without the arm).
+  logic [W-1:0] em2 [Lanes], tem_m [Lanes];
+  logic [2*CoefW-1:0] coef_arm2 [Lanes];
+  logic [NumCoef*CoefW-1:0] tem_coef [Lanes];
+  logic [W-1:0] arm_read_word;
 
   for (genvar j = 0; j < Lanes; j++) begin : g_tem
-    rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(EIdxW)) u_tem (
+    if (MaxwellArm != 0) begin : g_coef_arm
+      assign tem_coef[j] = {coef_arm2[j], coef2[j]};
+    end else begin : g_coef
+      assign tem_coef[j] = coef2[j];
+    end
+    rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(EIdxW), .MaxwellArm(MaxwellArm)) u_tem (
       .clk_i       (clk_i),
       .rst_ni      (rst_ni),
       .valid_i     (ev2[j]),
@@ -147,12 +165,14 @@ module rheo_core #(
       .pe_i        (pe2[j]),
       .d_i         (ed2[j]),
       .len_i       (elen2[j]),
-      .coef_i      (coef2[j]),
+      .m_i         (em2[j]),
+      .coef_i      (tem_coef[j]),
       .mat_flags_i (mflags2[j]),
       .valid_o     (tem_valid[j]),
       .idx_o       (tem_idx[j]),
       .f_o         (tem_f[j]),
       .d_o         (tem_d[j]),
+      .m_o         (tem_m[j]),
       .sat_o       (tem_sat[j]),
       .degenerate_o(tem_deg[j])
     );
@@ -361,6 +381,40 @@ module rheo_core #(
     end
   end
 
+  // ---------------------------------------------------------------- Maxwell arm memories
+  // The arm's per-edge extension m follows d (fetched with the edge, written back with
+  // the TEM result); the arm's coefficients follow the material table.
+  if (MaxwellArm != 0) begin : g_arm_mem
+    logic [W-1:0] em_mem [MaxEdges];
+    logic [CoefW-1:0] mat_arm [MaxMaterials][2];
+    logic [W-1:0] em1 [Lanes];
+    always_ff @(posedge clk_i) begin
+      if (host_we && region_q == 4'(rheo_fixed_pkg::RegionMaterialArm) &&
+          index_q < 24'(MaxMaterials))
+        mat_arm[MIdxW'(index_q)][field_q[0]] <= s_axis_tdata[CoefW-1:0];
+      if (host_we && region_q == 4'(rheo_fixed_pkg::RegionEdgeArm) && index_q < 24'(MaxEdges))
+        em_mem[EIdxW'(index_q)] <= s_axis_tdata;
+      for (int j = 0; j < Lanes; j++) begin
+        em1[j] <= em_mem[EIdxW'(row_q * 24'(Lanes) + 24'(j))];
+        em2[j] <= em1[j];
+        coef_arm2[j] <= {mat_arm[emat1[j]][1], mat_arm[emat1[j]][0]};
+        if (tem_valid[j]) em_mem[tem_idx[j]] <= tem_m[j];
+      end
+    end
+    assign arm_read_word = em_mem[EIdxW'(index_q)];
+  end else begin : g_no_arm_mem
+    logic unused_tem_m;
+    always_comb begin
+      unused_tem_m = 1'b0;
+      for (int j = 0; j < Lanes; j++) begin
+        em2[j] = '0;
+        coef_arm2[j] = '0;
+        unused_tem_m = unused_tem_m ^ (^tem_m[j]) ^ (^coef_arm2[j]);
+      end
+    end
+    assign arm_read_word = '0;
+  end
+
   // ---------------------------------------------------------------- read-back mux
   logic [W-1:0] read_word;
   always_comb begin
@@ -374,6 +428,9 @@ module rheo_core #(
       end
       4'(rheo_fixed_pkg::RegionEdgeLength): begin
         if (index_q < 24'(MaxEdges)) read_word = ed_mem[EIdxW'(index_q)];
+      end
+      4'(rheo_fixed_pkg::RegionEdgeArm): begin
+        if (MaxwellArm != 0 && index_q < 24'(MaxEdges)) read_word = arm_read_word;
       end
       default: read_word = '0;
     endcase
@@ -438,12 +495,12 @@ module rheo_core #(
             field_q <= '0;
             case (s_axis_tdata[31:28])
               4'(rheo_fixed_pkg::OpWrite): begin
-                if (s_axis_tdata[27:24] >= 4'(rheo_fixed_pkg::NumRegions))
+                if (s_axis_tdata[27:24] >= 4'(CoreRegions))
                   status_q <= status_q | 32'(rheo_fixed_pkg::StatusBadCommand);
                 else state_q <= StWStart;
               end
               4'(rheo_fixed_pkg::OpRead): begin
-                if (s_axis_tdata[27:24] >= 4'(rheo_fixed_pkg::NumRegions))
+                if (s_axis_tdata[27:24] >= 4'(CoreRegions))
                   status_q <= status_q | 32'(rheo_fixed_pkg::StatusBadCommand);
                 else state_q <= StRStart;
               end

@@ -22,6 +22,8 @@ package rheo_fixed_pkg;
   localparam int ShiftCt = 11;  // extra shift of ct*ldot: P -> F
   localparam int ShiftClamp = 0;  // extra shift of a*l: X -> X
   localparam int ShiftMinv = -11;  // extra shift of minv*F: F -> P
+  localparam int ShiftGamma = -4;  // extra shift of gamma*m: X -> P
+  localparam int ShiftK2t = 7;  // extra shift of k2t*m: X -> F
   localparam int TemDrain = 21;  // clocks from the last TEM issue to its write
   localparam int MpmDrain = 10;  // clocks from the last gather issue to its write
   localparam int ForceAccW = 40;  // per-particle force sum
@@ -46,7 +48,10 @@ package rheo_fixed_pkg;
   localparam int RegionMaterial = 4;  // region
   localparam int RegionGather = 5;  // region
   localparam int RegionEdgeLength = 6;  // region
-  localparam int NumRegions = 7;  // regions
+  localparam int RegionMaterialArm = 7;  // region
+  localparam int RegionEdgeArm = 8;  // region
+  localparam int NumRegions = 9;  // regions
+  localparam int NumBaseRegions = 7;  // regions of a core without the Maxwell arm
   localparam int StatusWords = 4;  // words of a status response
 
   // Words per entry of each region.
@@ -59,6 +64,8 @@ package rheo_fixed_pkg;
       4'd4: words_per_entry = 3'd7;
       4'd5: words_per_entry = 3'd1;
       4'd6: words_per_entry = 3'd1;
+      4'd7: words_per_entry = 3'd2;
+      4'd8: words_per_entry = 3'd1;
       default: words_per_entry = 3'd0;
     endcase
   endfunction

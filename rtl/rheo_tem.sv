@@ -10,10 +10,17 @@
 // 8 rsqrt stages, 6 stages to the clamped result). Mirrors rheo::hls::tem_edge.
 // Multipliers: 3 (r.r) + 3 per Newton step x 2 + 1 (l) + 3 (u) + 3 (ldot)
 // + 6 (coefficients) + 3 (T u) = 25.
+// MaxwellArm = 1 adds the parallel Maxwell arm (rheo::hls::tem_edge<Fmt, true>): the
+// edge carries the arm's extension m (m_i -> m_o) and two more coefficients (gamma, k2t):
+//   stage 14: m gamma, k2t m;  stage 15: dm = ldot - m gamma, T = kt ds + ct ldot + k2t m;
+//   stage 16: m' = m + dm.  Same latency; +2 multipliers (27). MaxwellArm = 0 builds
+// exactly the baseline TEM (m_i ignored, m_o = 0).
 module rheo_tem #(
   parameter int W = 32,      // state word width (rheo_fixed_pkg::Width)
   parameter int CoefW = 24,  // packed coefficient {shift, mantissa}
-  parameter int IdxW = 16    // edge index carried alongside
+  parameter int IdxW = 16,   // edge index carried alongside
+  parameter int MaxwellArm = 0,  // 1: with the parallel Maxwell arm
+  localparam int NumCoef = (MaxwellArm != 0) ? 8 : 6
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -25,12 +32,14 @@ module rheo_tem #(
   input  logic [3*W-1:0]    pe_i,       // end displacement per step
   input  logic [W-1:0]      d_i,        // Voigt length
   input  logic [W-1:0]      len_i,      // Voigt natural length L
-  input  logic [6*CoefW-1:0] coef_i,    // {a_max, a_min, ct, kt, beta, alpha}
+  input  logic [W-1:0]      m_i,        // Maxwell-arm extension (MaxwellArm = 1)
+  input  logic [NumCoef*CoefW-1:0] coef_i,  // {[k2t, gamma,] a_max, a_min, ct, kt, beta, alpha}
   input  logic [1:0]        mat_flags_i,// {clamp high enable, clamp low enable}
   output logic              valid_o,
   output logic [IdxW-1:0]   idx_o,
   output logic [3*W-1:0]    f_o,        // force on the start particle, {z, y, x}
   output logic [W-1:0]      d_o,        // new Voigt length
+  output logic [W-1:0]      m_o,        // new Maxwell-arm extension (0 without the arm)
   output logic              sat_o,      // a result of this edge saturated
   output logic              degenerate_o// this edge has zero length
 );
@@ -61,7 +70,7 @@ module rheo_tem #(
   logic sat_q [Last+1];
   logic signed [W-1:0] xs_q [3], xe_q [3], ps_q [3], pe_q [3], len_q;
   logic signed [W-1:0] d_q [17];
-  logic [CoefW-1:0] coef_q [15][6];
+  logic [CoefW-1:0] coef_q [15][NumCoef];
   logic [1:0] mflags_q [Last+1];
   logic signed [W-1:0] r_q [1:12][3];
   logic signed [W-1:0] dp_q [1:13][3];
@@ -76,6 +85,9 @@ module rheo_tem #(
   logic signed [W-1:0] lo_q [14:16], hi_q [14:16];
   logic signed [W-1:0] dd_q, tension_q;
   logic signed [W-1:0] f_q [3], fout_q [3], dnew_q, dout_q;
+  // Maxwell arm: its tension sum and clip flags (constant 0 without the arm).
+  logic signed [WideW-1:0] tension_arm_w;
+  logic clip_arm14, clip_arm15, clip_arm16;
 
   logic [31:0] rs_mant, rs_y;
   logic signed [7:0] rs_k;
@@ -130,11 +142,11 @@ module rheo_tem #(
     lo_w = rheo_fixed_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmin], rheo_fixed_pkg::ShiftClamp);
     hi_w = rheo_fixed_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmax], rheo_fixed_pkg::ShiftClamp);
     clip14 = clip(dd_beta_w) | clip(dd_alpha_w) | clip(t_spring_w) | clip(t_damper_w) |
-             clip(lo_w) | clip(hi_w);
+             clip(lo_w) | clip(hi_w) | clip_arm14;
     // stage 15: dd and T
     dd_w = wide(dd_beta_q) - wide(dd_alpha_q);
     tension_w = wide(t_spring_q) + wide(t_damper_q);
-    clip15 = clip(dd_w) | clip(tension_w);
+    clip15 = clip(dd_w) | ((MaxwellArm != 0) ? clip_arm15 : clip(tension_w));
     // stage 16: f = T u, d + dd
     clip16 = 1'b0;
     for (int i = 0; i < 3; i++) begin
@@ -142,7 +154,7 @@ module rheo_tem #(
       clip16 = clip16 | clip(f_w[i]);
     end
     dnew_w = wide(d_q[15]) + rheo_fixed_pkg::round_shift(wide(dd_q), FracP - FracX);
-    clip16 = clip16 | clip(dnew_w);
+    clip16 = clip16 | clip(dnew_w) | clip_arm16;
     // stage 17: length-ratio clamp
     dclamp = dnew_q;
     if (mflags_q[16][0] && dnew_q < lo_q[16]) dclamp = lo_q[16];
@@ -172,7 +184,7 @@ module rheo_tem #(
     end
     d_q[0] <= d_i;
     len_q <= len_i;
-    for (int c = 0; c < 6; c++) coef_q[0][c] <= coef_i[c*CoefW +: CoefW];
+    for (int c = 0; c < NumCoef; c++) coef_q[0][c] <= coef_i[c*CoefW +: CoefW];
     mflags_q[0] <= mat_flags_i;
     // pass-through of everything carried along
     for (int s = 1; s <= Last; s++) begin
@@ -222,7 +234,7 @@ module rheo_tem #(
     sat_q[14] <= sat_q[13] | clip14;
     // stage 15
     dd_q <= sat(dd_w);
-    tension_q <= sat(tension_w);
+    tension_q <= sat((MaxwellArm != 0) ? tension_arm_w : tension_w);
     sat_q[15] <= sat_q[14] | clip15;
     // stage 16
     for (int i = 0; i < 3; i++) f_q[i] <= sat(f_w[i]);
@@ -231,6 +243,47 @@ module rheo_tem #(
     // stage 17
     dout_q <= dclamp;
     for (int i = 0; i < 3; i++) fout_q[i] <= f_q[i];
+  end
+
+  // ---- parallel Maxwell arm ----
+  if (MaxwellArm != 0) begin : g_arm
+    localparam int CGamma = 6, CK2t = 7;
+    logic signed [W-1:0] m_q [16];
+    logic signed [W-1:0] m_decay_q, t_arm_q, dm_q, mnew_q, mout_q;
+    logic signed [WideW-1:0] m_decay_w, t_arm_w, dm_w, mnew_w;
+    always_comb begin
+      // stage 14: m gamma (X -> P) and k2t m (X -> F)
+      m_decay_w = rheo_fixed_pkg::mul_coef_wide(m_q[13], coef_q[13][CGamma],
+                                                rheo_fixed_pkg::ShiftGamma);
+      t_arm_w = rheo_fixed_pkg::mul_coef_wide(m_q[13], coef_q[13][CK2t],
+                                              rheo_fixed_pkg::ShiftK2t);
+      clip_arm14 = clip(m_decay_w) | clip(t_arm_w);
+      // stage 15: the arm's force joins T in one wide sum; dm = ldot - m gamma
+      tension_arm_w = wide(t_spring_q) + wide(t_damper_q) + wide(t_arm_q);
+      dm_w = wide(ldot_q[14]) - wide(m_decay_q);
+      clip_arm15 = clip(tension_arm_w) | clip(dm_w);
+      // stage 16: m + dm (P -> X)
+      mnew_w = wide(m_q[15]) + rheo_fixed_pkg::round_shift(wide(dm_q), FracP - FracX);
+      clip_arm16 = clip(mnew_w);
+    end
+    always_ff @(posedge clk_i) begin
+      m_q[0] <= m_i;
+      for (int s = 1; s < 16; s++) m_q[s] <= m_q[s-1];
+      m_decay_q <= sat(m_decay_w);
+      t_arm_q <= sat(t_arm_w);
+      dm_q <= sat(dm_w);
+      mnew_q <= sat(mnew_w);
+      mout_q <= mnew_q;
+    end
+    assign m_o = mout_q;
+  end else begin : g_no_arm
+    logic unused_m_i;
+    assign unused_m_i = ^m_i;
+    assign tension_arm_w = '0;
+    assign clip_arm14 = 1'b0;
+    assign clip_arm15 = 1'b0;
+    assign clip_arm16 = 1'b0;
+    assign m_o = '0;
   end
 
   assign valid_o = v_q[Last];

@@ -143,6 +143,11 @@ void run(const Options& opt) {
     if (label == "tem") {
       spec.top = "rheo_tem";
       spec.sources = {"rheo_fixed_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+    } else if (label == "tem_arm") {
+      // The TEM with the parallel Maxwell arm (second_relaxation_time, issue 6).
+      spec.top = "rheo_tem";
+      spec.sources = {"rheo_fixed_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+      spec.params = {"MaxwellArm=1"};
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
       spec.sources = {"rheo_fixed_pkg.sv", "rheo_mpm.sv"};
@@ -161,7 +166,7 @@ void run(const Options& opt) {
       spec.params = {"Lanes=" + std::to_string(opt.lanes)};
       spec.params.insert(spec.params.end(), kCoreCapacityParams.begin(), kCoreCapacityParams.end());
     } else {
-      throw Error("synth: unknown design '" + label + "'; expected tem, mpm or core");
+      throw Error("synth: unknown design '" + label + "'; expected tem, tem_arm, mpm or core");
     }
     std::cout << "synth: " << label << " (" << spec.top << ") ..." << std::flush;
     try {
@@ -343,7 +348,8 @@ void register_synth(CLI::App& app) {
       "DIR/synth.json, EDIF netlists and a UCF clock constraint.");
   cmd->add_option("--lanes", opt->lanes, "TEM/MPM lanes of the core")->capture_default_str();
   cmd->add_option("--out", opt->out, "output directory")->required();
-  cmd->add_option("--designs", opt->designs, "subset of tem, mpm, core")
+  cmd->add_option("--designs", opt->designs,
+                  "subset of tem, tem_arm (TEM with the Maxwell arm), mpm, core")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--core-top", opt->core_top, "top module of the core")->capture_default_str();

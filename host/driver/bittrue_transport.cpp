@@ -23,8 +23,8 @@ std::int64_t sword(std::uint32_t w) { return static_cast<std::int32_t>(w); }
 
 }  // namespace
 
-BitTrueTransport::BitTrueTransport(int lanes)
-    : lanes_(lanes), mem_(std::make_unique<hls::CoreMemory>()) {
+BitTrueTransport::BitTrueTransport(int lanes, bool maxwell_arm)
+    : lanes_(lanes), maxwell_arm_(maxwell_arm), mem_(std::make_unique<hls::CoreMemory>()) {
   mem_->lanes = lanes;
 }
 
@@ -130,6 +130,13 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
     case frame::kRegionEdgeLength:
       if (index < std::uint32_t(hls::kMaxEdges)) m.edges[index].d = sword(w);
       return;
+    case frame::kRegionMaterialArm:
+      if (index < std::uint32_t(hls::kMaxMaterials))
+        (field == 0 ? m.materials[index].gamma : m.materials[index].k2t) = unpack_coef(w);
+      return;
+    case frame::kRegionEdgeArm:
+      if (index < std::uint32_t(hls::kMaxEdges)) m.edges[index].m = sword(w);
+      return;
     default:
       return;
   }
@@ -145,6 +152,9 @@ std::uint32_t BitTrueTransport::read_word(std::uint32_t region, std::uint32_t in
   if (region == frame::kRegionEdgeLength && index < std::uint32_t(hls::kMaxEdges)) {
     return static_cast<std::uint32_t>(m.edges[index].d);
   }
+  if (region == frame::kRegionEdgeArm && index < std::uint32_t(hls::kMaxEdges)) {
+    return static_cast<std::uint32_t>(m.edges[index].m);
+  }
   return 0;
 }
 
@@ -158,7 +168,7 @@ void BitTrueTransport::process() {
     const std::uint32_t region = frame::header_region(h);
     const std::uint32_t count = frame::header_count(h);
     if (op == frame::kOpWrite || op == frame::kOpRead) {
-      if (region >= frame::kNumRegions) {
+      if (region >= (maxwell_arm_ ? frame::kNumRegions : frame::kNumBaseRegions)) {
         m.status |= hls::kStatusBadCommand;
         in_.pop_front();
         continue;
@@ -189,7 +199,9 @@ void BitTrueTransport::process() {
       in_.pop_front();
       m.globals.plate_z = sword(in_.front());
       in_.pop_front();
-      out_.push_back(static_cast<std::uint32_t>(hls::core_step<Fmt>(m)));
+      const std::int64_t plate_force =
+          maxwell_arm_ ? hls::core_step<Fmt, true>(m) : hls::core_step<Fmt>(m);
+      out_.push_back(static_cast<std::uint32_t>(plate_force));
       cycles_ += static_cast<std::uint32_t>(
           cycles_per_step_formula(int(m.num_edges), int(gather_rows_), lanes_));
       if (count > 1) in_.push_front(frame::header(frame::kOpRun, frame::kRegionGlobals, count - 1));

@@ -14,7 +14,8 @@ namespace rheo::driver {
 
 class BitTrueTransport : public Transport {
  public:
-  explicit BitTrueTransport(int lanes);
+  // maxwell_arm: model the core variant with the parallel Maxwell arm (RTL MaxwellArm = 1).
+  explicit BitTrueTransport(int lanes, bool maxwell_arm = false);
   void send(const std::vector<std::uint32_t>& words) override;
   std::vector<std::uint32_t> receive(std::size_t n) override;
   std::string name() const override { return "bit-true model"; }
@@ -28,6 +29,7 @@ class BitTrueTransport : public Transport {
   std::uint32_t read_word(std::uint32_t region, std::uint32_t index, std::uint32_t field) const;
 
   int lanes_;
+  bool maxwell_arm_;
   std::unique_ptr<hls::CoreMemory> mem_;
   std::deque<std::uint32_t> in_;
   std::deque<std::uint32_t> out_;

@@ -77,7 +77,7 @@ hls::Coef encode_coef(double value, const std::string& what, int extra_shift) {
 
 double decode_coef(const hls::Coef& c) { return std::ldexp(double(c.mant), -c.shift); }
 
-Model hardware_model(const Model& model, std::vector<std::string>* dropped) {
+Model hardware_model(const Model& model, std::vector<std::string>* dropped, bool keep_maxwell_arm) {
   Model hw = model;
   std::vector<std::string> notes;
   for (std::size_t i = 0; i < hw.materials.size(); ++i) {
@@ -85,11 +85,13 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped) {
     const std::string where = "material " + std::to_string(i) + ": ";
     if (m.nonlinear) notes.push_back(where + "nonlinear series damper (linear c2 used)");
     if (m.hardening != 0.0) notes.push_back(where + "strain hardening");
-    if (m.has_maxwell_arm()) notes.push_back(where + "parallel Maxwell arm");
+    if (m.has_maxwell_arm() && !keep_maxwell_arm) notes.push_back(where + "parallel Maxwell arm");
     m.nonlinear = false;
     m.hardening = 0.0;
-    m.k2 = 0.0;
-    m.c3 = 0.0;
+    if (!keep_maxwell_arm || !m.has_maxwell_arm()) {
+      m.k2 = 0.0;
+      m.c3 = 0.0;
+    }
   }
   if (hw.topology.enabled) notes.push_back("topology-maintenance forces");
   if (hw.volume.enabled) notes.push_back("volume-preserving forces");
@@ -114,7 +116,7 @@ double from_f_word(std::int64_t word, const CoreImage& image) {
 }
 
 CoreImage make_core_image(const Model& model_in, const State& state, double dt, int lanes,
-                          const FormatDesc& format) {
+                          const FormatDesc& format, bool maxwell_arm) {
   if (lanes < 1 || lanes > hls::kMaxLanes) {
     throw Error("lanes = " + std::to_string(lanes) + ": expected 1.." +
                 std::to_string(hls::kMaxLanes));
@@ -123,7 +125,8 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
   CoreImage img;
   img.format = format;
   img.lanes = lanes;
-  const Model model = hardware_model(model_in, &img.dropped_features);
+  img.maxwell_arm = maxwell_arm;
+  const Model model = hardware_model(model_in, &img.dropped_features, maxwell_arm);
   const int np = model.num_particles();
   const int ne = model.num_edges();
   if (np < 1 || np > hls::kMaxParticles) {
@@ -187,6 +190,16 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
       mc.a_max = encode_coef(m.a_max, where + "a_max", 0);
       mc.flags |= hls::kClampHighEnable;
     }
+    if (maxwell_arm && m.has_maxwell_arm()) {
+      // Per step the arm's extension decays by gamma m; its spring adds k2t m to T.
+      const double gamma = m.k2 * dt / m.c3;
+      if (!(gamma < 1.0)) {
+        throw Error(where + "gamma = k2 dt / c3 = " + str(gamma) +
+                    " must be below 1 (the arm's relaxation time c3/k2 must exceed dt)");
+      }
+      mc.gamma = encode_coef(gamma, where + "gamma = k2 dt / c3", S::kGamma);
+      mc.k2t = encode_coef(m.k2 * Lu / Fu, where + "k2t = k2 (Maxwell arm spring)", S::kK2t);
+    }
     img.materials.push_back(mc);
   }
 
@@ -235,6 +248,8 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     ee.material = e.material;
     ee.L = to_x_word(e.L, img, where + " L");
     ee.d = to_x_word(state.d[k], img, where + " d");
+    if (maxwell_arm && k < static_cast<int>(state.m.size()))
+      ee.m = to_x_word(state.m[k], img, where + " m (Maxwell-arm extension)");
     incident[e.s].push_back({k, false});
     incident[e.e].push_back({k, true});
   }
@@ -353,6 +368,17 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
                 (g.last ? frame::kGatherLast : 0u));
   }
   write_command(out, frame::kRegionGather, 0, w);
+  if (img.maxwell_arm) {
+    w.clear();
+    for (const auto& m : img.materials) {
+      w.push_back(pack_coef(m.gamma));
+      w.push_back(pack_coef(m.k2t));
+    }
+    write_command(out, frame::kRegionMaterialArm, 0, w);
+    w.clear();
+    for (const auto& e : img.edges) w.push_back(std::uint32_t(e.m));
+    write_command(out, frame::kRegionEdgeArm, 0, w);
+  }
   return out;
 }
 

@@ -43,6 +43,9 @@ struct CoreImage {
   std::vector<hls::MaterialCoefs> materials;
   std::vector<hls::GatherEntry> gather;  // gather_rows * lanes entries, row-major
   hls::MpmGlobals globals;
+  // The image is for a core with the parallel Maxwell arm (RTL MaxwellArm = 1): the
+  // materials' gamma and k2t and the edges' m are part of it (frames of the arm regions).
+  bool maxwell_arm = false;
   // Model features the linear hardware edge does not implement (ignored in the image).
   std::vector<std::string> dropped_features;
 };
@@ -56,13 +59,17 @@ long cycles_per_step_formula(int num_edges, int gather_rows, int lanes);
 // Builds the image of `model` in `state` for time step dt. Throws rheo::Error on values
 // out of range (positions beyond the X range, coefficients beyond the 18-bit mantissa,
 // too many particles/edges/materials for the core's memories, degree >= 256).
+// maxwell_arm: the target core has the parallel Maxwell arm; the model's arm (k2, c3) is
+// then kept (gamma = k2 dt / c3, k2t = k2 Lu / Fu) instead of dropped.
 CoreImage make_core_image(const Model& model, const State& state, double dt, int lanes,
-                          const FormatDesc& format = FormatDesc{});
+                          const FormatDesc& format = FormatDesc{}, bool maxwell_arm = false);
 
 // The model the hardware computes: `model` without the features the linear three-element
 // hardware edge leaves out (nonlinear damper, hardening, Maxwell arm, topology and volume
 // forces). The double reference runs on this for fixed-vs-double comparisons.
-Model hardware_model(const Model& model, std::vector<std::string>* dropped = nullptr);
+// keep_maxwell_arm: the target core has the arm, so it is not dropped.
+Model hardware_model(const Model& model, std::vector<std::string>* dropped = nullptr,
+                     bool keep_maxwell_arm = false);
 
 // Conversions between SI values and words of a format.
 std::int64_t to_x_word(double meters, const CoreImage& image, const std::string& what);

@@ -36,7 +36,8 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   const Model model = scenario.build_model();
   const double dt = scenario.options.dt;
   const State start = initial_state(model);
-  const CoreImage image = make_core_image(model, start, dt, opt.lanes);
+  const CoreImage image =
+      make_core_image(model, start, dt, opt.lanes, FormatDesc{}, opt.maxwell_arm);
 
   CosimResult res;
   res.particles = image.num_particles;
@@ -56,9 +57,10 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   vo.input_idle_prob = opt.input_idle_prob;
   vo.output_stall_prob = opt.output_stall_prob;
   vo.seed = opt.seed;
+  vo.maxwell_arm = opt.maxwell_arm;
   auto rtl_transport = std::make_unique<VerilatorTransport>(vo);
   VerilatorTransport* rtl_raw = rtl_transport.get();
-  auto bt_transport = std::make_unique<BitTrueTransport>(opt.lanes);
+  auto bt_transport = std::make_unique<BitTrueTransport>(opt.lanes, opt.maxwell_arm);
   BitTrueTransport* bt_raw = bt_transport.get();
   Device rtl(std::move(rtl_transport));
   Device bittrue(std::move(bt_transport));
@@ -69,7 +71,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   std::unique_ptr<Simulator> ref;
   if (opt.run_reference) {
     SimOptions so = scenario.options;
-    ref = std::make_unique<Simulator>(hardware_model(model), so);
+    ref = std::make_unique<Simulator>(hardware_model(model, nullptr, opt.maxwell_arm), so);
   }
   const double size = (image.units.length_m * 8.0);  // the object's largest extent
   double sq_sum = 0.0;

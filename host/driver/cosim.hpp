@@ -23,6 +23,7 @@ struct CosimOptions {
   double output_stall_prob = 0.0;  // random back-pressure on m_axis
   std::uint64_t seed = 1;
   bool run_reference = true;
+  bool maxwell_arm = false;  // the core variant with the parallel Maxwell arm (1 lane)
   std::function<void(long step)> progress;  // called after each batch (may be empty)
 };
 

@@ -30,10 +30,15 @@ enum Region : std::uint32_t {
   kRegionMaterial = 4,        // alpha, beta, kt, ct, a_min, a_max (packed), flags
   kRegionGather = 5,          // packed gather entry
   kRegionEdgeLength = 6,      // d only (read back the Voigt lengths)
-  kNumRegions = 7,
+  // Parallel Maxwell arm (cores built with MaxwellArm = 1 only; others flag a bad command):
+  kRegionMaterialArm = 7,  // gamma, k2t (packed): the arm's decay and force coefficients
+  kRegionEdgeArm = 8,      // m: the arm spring's extension (X format), written and read back
+  kNumRegions = 9,
 };
 
-inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 1};
+inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 1, 2, 1};
+// Regions a core without the Maxwell arm accepts.
+inline constexpr std::uint32_t kNumBaseRegions = kRegionMaterialArm;
 
 enum GlobalRegister : std::uint32_t {
   kGlobalNumParticles = 0,

@@ -6,6 +6,7 @@
 #include <verilated.h>
 #include <verilated_fst_c.h>
 
+#include "Vrheo_core_arm_l1.h"
 #include "Vrheo_core_l1.h"
 #include "Vrheo_core_l2.h"
 #pragma GCC diagnostic pop
@@ -134,7 +135,12 @@ class Harness : public VerilatorTransport::Impl {
 }  // namespace
 
 VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
-  if (o.lanes == 1)
+  if (o.maxwell_arm) {
+    if (o.lanes != 1)
+      throw Error("RTL core with the Maxwell arm: lanes = " + std::to_string(o.lanes) +
+                  ": built for 1");
+    impl_ = std::make_unique<Harness<Vrheo_core_arm_l1>>(o);
+  } else if (o.lanes == 1)
     impl_ = std::make_unique<Harness<Vrheo_core_l1>>(o);
   else if (o.lanes == 2)
     impl_ = std::make_unique<Harness<Vrheo_core_l2>>(o);

@@ -14,6 +14,7 @@ namespace rheo::driver {
 
 struct VerilatorOptions {
   int lanes = 1;                   // 1 or 2 (the two verilated variants)
+  bool maxwell_arm = false;        // the MaxwellArm = 1 variant (1 lane)
   std::string trace_fst;           // empty: no waveform
   double input_idle_prob = 0.0;    // probability of holding s_axis_tvalid low in a cycle
   double output_stall_prob = 0.0;  // probability of holding m_axis_tready low in a cycle
