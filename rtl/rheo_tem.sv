@@ -85,9 +85,11 @@ module rheo_tem #(
   logic signed [W-1:0] lo_q [14:16], hi_q [14:16];
   logic signed [W-1:0] dd_q, tension_q;
   logic signed [W-1:0] f_q [3], fout_q [3], dnew_q, dout_q;
-  // Maxwell arm: its tension sum and clip flags (constant 0 without the arm).
-  logic signed [WideW-1:0] tension_arm_w;
-  logic clip_arm14, clip_arm15, clip_arm16;
+  // Stage 15's tension sum and its clip flag: the baseline's, or with the Maxwell arm the
+  // one that includes the arm's force (wires from g_arm / g_no_arm, so MaxwellArm = 0
+  // leaves the baseline netlist as it was). sat_arm: the arm's own clip flags.
+  logic signed [WideW-1:0] tension_sel_w;
+  logic clip_tension15, sat_arm;
 
   logic [31:0] rs_mant, rs_y;
   logic signed [7:0] rs_k;
@@ -142,11 +144,11 @@ module rheo_tem #(
     lo_w = rheo_fixed_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmin], rheo_fixed_pkg::ShiftClamp);
     hi_w = rheo_fixed_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmax], rheo_fixed_pkg::ShiftClamp);
     clip14 = clip(dd_beta_w) | clip(dd_alpha_w) | clip(t_spring_w) | clip(t_damper_w) |
-             clip(lo_w) | clip(hi_w) | clip_arm14;
+             clip(lo_w) | clip(hi_w);
     // stage 15: dd and T
     dd_w = wide(dd_beta_q) - wide(dd_alpha_q);
     tension_w = wide(t_spring_q) + wide(t_damper_q);
-    clip15 = clip(dd_w) | ((MaxwellArm != 0) ? clip_arm15 : clip(tension_w));
+    clip15 = clip(dd_w) | clip_tension15;
     // stage 16: f = T u, d + dd
     clip16 = 1'b0;
     for (int i = 0; i < 3; i++) begin
@@ -154,7 +156,7 @@ module rheo_tem #(
       clip16 = clip16 | clip(f_w[i]);
     end
     dnew_w = wide(d_q[15]) + rheo_fixed_pkg::round_shift(wide(dd_q), FracP - FracX);
-    clip16 = clip16 | clip(dnew_w) | clip_arm16;
+    clip16 = clip16 | clip(dnew_w);
     // stage 17: length-ratio clamp
     dclamp = dnew_q;
     if (mflags_q[16][0] && dnew_q < lo_q[16]) dclamp = lo_q[16];
@@ -234,7 +236,7 @@ module rheo_tem #(
     sat_q[14] <= sat_q[13] | clip14;
     // stage 15
     dd_q <= sat(dd_w);
-    tension_q <= sat((MaxwellArm != 0) ? tension_arm_w : tension_w);
+    tension_q <= sat(tension_sel_w);
     sat_q[15] <= sat_q[14] | clip15;
     // stage 16
     for (int i = 0; i < 3; i++) f_q[i] <= sat(f_w[i]);
@@ -251,6 +253,11 @@ module rheo_tem #(
     logic signed [W-1:0] m_q [16];
     logic signed [W-1:0] m_decay_q, t_arm_q, dm_q, mnew_q, mout_q;
     logic signed [WideW-1:0] m_decay_w, t_arm_w, dm_w, mnew_w;
+    logic clip_arm14, clip_arm16;
+    logic sat_arm_q [15:Last];
+    // The baseline's two-term tension sum is replaced by the three-term one.
+    logic unused_tension_w;
+    assign unused_tension_w = ^tension_w;
     always_comb begin
       // stage 14: m gamma (X -> P) and k2t m (X -> F)
       m_decay_w = rheo_fixed_pkg::mul_coef_wide(m_q[13], coef_q[13][CGamma],
@@ -259,9 +266,9 @@ module rheo_tem #(
                                               rheo_fixed_pkg::ShiftK2t);
       clip_arm14 = clip(m_decay_w) | clip(t_arm_w);
       // stage 15: the arm's force joins T in one wide sum; dm = ldot - m gamma
-      tension_arm_w = wide(t_spring_q) + wide(t_damper_q) + wide(t_arm_q);
+      tension_sel_w = wide(t_spring_q) + wide(t_damper_q) + wide(t_arm_q);
       dm_w = wide(ldot_q[14]) - wide(m_decay_q);
-      clip_arm15 = clip(tension_arm_w) | clip(dm_w);
+      clip_tension15 = clip(tension_sel_w) | clip(dm_w);
       // stage 16: m + dm (P -> X)
       mnew_w = wide(m_q[15]) + rheo_fixed_pkg::round_shift(wide(dm_q), FracP - FracX);
       clip_arm16 = clip(mnew_w);
@@ -274,15 +281,18 @@ module rheo_tem #(
       dm_q <= sat(dm_w);
       mnew_q <= sat(mnew_w);
       mout_q <= mnew_q;
+      sat_arm_q[15] <= clip_arm14;
+      sat_arm_q[16] <= sat_arm_q[15];
+      sat_arm_q[17] <= sat_arm_q[16] | clip_arm16;
     end
     assign m_o = mout_q;
+    assign sat_arm = sat_arm_q[Last];
   end else begin : g_no_arm
     logic unused_m_i;
     assign unused_m_i = ^m_i;
-    assign tension_arm_w = '0;
-    assign clip_arm14 = 1'b0;
-    assign clip_arm15 = 1'b0;
-    assign clip_arm16 = 1'b0;
+    assign tension_sel_w = tension_w;
+    assign clip_tension15 = clip(tension_w);
+    assign sat_arm = 1'b0;
     assign m_o = '0;
   end
 
@@ -290,6 +300,6 @@ module rheo_tem #(
   assign idx_o = idx_q[Last];
   assign f_o = {fout_q[2], fout_q[1], fout_q[0]};
   assign d_o = dout_q;
-  assign sat_o = v_q[Last] & sat_q[Last];
+  assign sat_o = v_q[Last] & (sat_q[Last] | sat_arm);
   assign degenerate_o = v_q[Last] & deg_q[Last];
 endmodule

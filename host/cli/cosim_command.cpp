@@ -29,6 +29,7 @@ struct CosimArgs {
   std::string out;
   int compare_every = 1;
   bool quiet = false;
+  bool maxwell_arm = false;
 };
 
 void run(const CosimArgs& args) {
@@ -44,6 +45,7 @@ void run(const CosimArgs& args) {
   opt.trace_fst = args.trace;
   opt.trace_steps = args.trace_steps;
   opt.compare_every = args.compare_every;
+  opt.maxwell_arm = args.maxwell_arm;
   const bool show = !args.quiet && isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   if (show) {
@@ -130,6 +132,9 @@ void register_cosim(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_flag("--quiet", args->quiet, "no progress on stderr");
+  cmd->add_flag("--maxwell-arm", args->maxwell_arm,
+                "run the core variant with the parallel Maxwell arm (MaxwellArm = 1, 1 lane): "
+                "the scenario's k2/c3 arm is computed instead of dropped");
   cmd->callback([args]() { run(*args); });
 }
 
