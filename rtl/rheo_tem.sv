@@ -254,7 +254,7 @@ module rheo_tem #(
     logic signed [W-1:0] m_decay_q, t_arm_q, dm_q, mnew_q, mout_q;
     logic signed [WideW-1:0] m_decay_w, t_arm_w, dm_w, mnew_w;
     logic clip_arm14, clip_arm16;
-    logic sat_arm_q [15:Last];
+    logic sat_arm_q [14:Last];  // aligned with sat_q
     // The baseline's two-term tension sum is replaced by the three-term one.
     logic unused_tension_w;
     assign unused_tension_w = ^tension_w;
@@ -281,9 +281,10 @@ module rheo_tem #(
       dm_q <= sat(dm_w);
       mnew_q <= sat(mnew_w);
       mout_q <= mnew_q;
-      sat_arm_q[15] <= clip_arm14;
-      sat_arm_q[16] <= sat_arm_q[15];
-      sat_arm_q[17] <= sat_arm_q[16] | clip_arm16;
+      sat_arm_q[14] <= clip_arm14;
+      sat_arm_q[15] <= sat_arm_q[14];
+      sat_arm_q[16] <= sat_arm_q[15] | clip_arm16;
+      sat_arm_q[Last] <= sat_arm_q[16];
     end
     assign m_o = mout_q;
     assign sat_arm = sat_arm_q[Last];
