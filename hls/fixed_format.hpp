@@ -1,7 +1,7 @@
 // The one place where the core's word lengths, binary points, coefficient encoding,
 // status bits and the reciprocal-square-root seed table are defined. The bit-true model
-// (hls/), the host conversion (host/driver/) and the RTL package rtl/rheo_fixed_pkg.sv
-// all take their numbers from here; rtl/rheo_fixed_pkg.sv is generated from this header
+// (hls/), the host conversion (host/driver/) and the RTL package rtl/rheo_consts_pkg.sv
+// all take their numbers from here; rtl/rheo_consts_pkg.sv is generated from this header
 // by `rheo_gen_rtl_pkg` and a test checks that the checked-in copy is up to date.
 //
 // Units (host-side constant folding, design.md §4): lengths are in a length unit Lu

@@ -1,6 +1,6 @@
-// Prints rtl/rheo_fixed_pkg.sv from hls/fixed_format.hpp and host/driver/frame_format.hpp,
+// Prints rtl/rheo_consts_pkg.sv from hls/fixed_format.hpp and host/driver/frame_format.hpp,
 // so widths, binary points, the rsqrt seed table and the command encoding exist in one
-// place. Usage: rheo_gen_rtl_pkg > rtl/rheo_fixed_pkg.sv (a test checks the copy).
+// place. Usage: rheo_gen_rtl_pkg > rtl/rheo_consts_pkg.sv (a test checks the copy).
 #include <cstdio>
 
 #include "hls/fixed_format.hpp"
@@ -25,7 +25,7 @@ int main() {
       "// host/driver/frame_format.hpp. Do not edit; regenerate instead.\n"
       "// Fixed-point formats, rsqrt seed ROM, command encoding and the rounding/saturation\n"
       "// primitives shared by every module of the core.\n"
-      "package rheo_fixed_pkg;\n");
+      "package rheo_consts_pkg;\n");
   param("Width", Fmt::kWidth, "state word width");
   param("FracX", Fmt::kFracX, "fractional bits of positions and lengths");
   param("FracP", Fmt::kFracP, "fractional bits of displacement per step");

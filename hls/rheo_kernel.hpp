@@ -31,7 +31,7 @@
 
 namespace rheo::hls {
 
-// ---- fixed-point primitives (the RTL's rheo_fixed_pkg functions) ----------------------
+// ---- fixed-point primitives (the RTL's rheo_consts_pkg functions) ----------------------
 
 // Shift right by s with the format's rounding (s <= 0 shifts left).
 template <Rounding R>

@@ -1,6 +1,6 @@
 // Rheological-object core: particle and edge state in on-chip memories, Lanes parallel
 // TEM and MPM lanes, and an AXI4-Stream style command interface (format in
-// host/driver/frame_format.hpp, constants in rheo_fixed_pkg).
+// host/driver/frame_format.hpp, constants in rheo_consts_pkg).
 //
 // One step (after the plate-height word arrives):
 //   TEM pass: row t = 0 .. ceil(E/Lanes)-1, lane j evaluates edge t*Lanes + j and writes
@@ -49,20 +49,20 @@ module rheo_core #(
   localparam int EIdxW = $clog2(MaxEdges);
   localparam int GIdxW = $clog2(MaxGather);
   localparam int MIdxW = $clog2(MaxMaterials);
-  localparam int WideW = rheo_fixed_pkg::WideW;
-  localparam int ForceAccW = rheo_fixed_pkg::ForceAccW;
-  localparam int PlateAccW = rheo_fixed_pkg::PlateAccW;
+  localparam int WideW = rheo_consts_pkg::WideW;
+  localparam int ForceAccW = rheo_consts_pkg::ForceAccW;
+  localparam int PlateAccW = rheo_consts_pkg::PlateAccW;
   // Clocks from the last TEM issue until its force is written: edge read, particle read,
   // 18 TEM stages, write. From the last gather issue until the particle is written:
   // gather read, force read, accumulate, particle read, 5 MPM stages, write.
-  localparam int TemDrain = rheo_fixed_pkg::TemDrain;
-  localparam int MpmDrain = rheo_fixed_pkg::MpmDrain;
+  localparam int TemDrain = rheo_consts_pkg::TemDrain;
+  localparam int MpmDrain = rheo_consts_pkg::MpmDrain;
   localparam int NumCoef = (MaxwellArm != 0) ? 8 : 6;
   localparam int CoreRegions =
-      (MaxwellArm != 0) ? rheo_fixed_pkg::NumRegions : rheo_fixed_pkg::NumBaseRegions;
+      (MaxwellArm != 0) ? rheo_consts_pkg::NumRegions : rheo_consts_pkg::NumBaseRegions;
 
-  if (W != rheo_fixed_pkg::Width || CoefW != rheo_fixed_pkg::CoefW) begin : g_check
-    $error("rheo_core: W/CoefW must match rheo_fixed_pkg");
+  if (W != rheo_consts_pkg::Width || CoefW != rheo_consts_pkg::CoefW) begin : g_check
+    $error("rheo_core: W/CoefW must match rheo_consts_pkg");
   end
   if (Lanes < 1 || Lanes > 4) begin : g_lanes_check
     $error("rheo_core: Lanes must be 1..4");
@@ -123,7 +123,7 @@ module rheo_core #(
                   (state_q == StMpmDrain);
 
   logic [2:0] wpe;
-  assign wpe = rheo_fixed_pkg::words_per_entry(region_q);
+  assign wpe = rheo_consts_pkg::words_per_entry(region_q);
   logic entry_done;
   assign entry_done = (field_q == wpe - 3'd1);
 
@@ -236,8 +236,8 @@ module rheo_core #(
           if (gent2[j][29]) acc_next[j][i] = acc_q[j][i] - ForceAccW'($signed(gf2[j][i]));
           else acc_next[j][i] = acc_q[j][i] + ForceAccW'($signed(gf2[j][i]));
         end
-        acc_sat[j][i] = rheo_fixed_pkg::sat_word(WideW'(acc_next[j][i]));
-        acc_clip[j] = acc_clip[j] | rheo_fixed_pkg::clips(WideW'(acc_next[j][i]), W);
+        acc_sat[j][i] = rheo_consts_pkg::sat_word(WideW'(acc_next[j][i]));
+        acc_clip[j] = acc_clip[j] | rheo_consts_pkg::clips(WideW'(acc_next[j][i]), W);
       end
     end
   end
@@ -325,20 +325,20 @@ module rheo_core #(
     // Host writes (only while idle: no overlap with the lanes' writes below).
     if (host_we) begin
       case (region_q)
-        4'(rheo_fixed_pkg::RegionParticleState): begin
+        4'(rheo_consts_pkg::RegionParticleState): begin
           if (index_q < 24'(MaxParticles)) begin
             if (field_q < 3) px_mem[PIdxW'(index_q)][field_q[1:0]] <= s_axis_tdata;
             else pp_mem[PIdxW'(index_q)][2'(field_q - 3'd3)] <= s_axis_tdata;
           end
         end
-        4'(rheo_fixed_pkg::RegionParticleStatic): begin
+        4'(rheo_consts_pkg::RegionParticleStatic): begin
           if (index_q < 24'(MaxParticles)) begin
             if (field_q < 3) x0_mem[PIdxW'(index_q)][field_q[1:0]] <= s_axis_tdata;
             else if (field_q == 3) minv_mem[PIdxW'(index_q)] <= s_axis_tdata[CoefW-1:0];
             else pflags_mem[PIdxW'(index_q)] <= s_axis_tdata[1:0];
           end
         end
-        4'(rheo_fixed_pkg::RegionEdge): begin
+        4'(rheo_consts_pkg::RegionEdge): begin
           if (index_q < 24'(MaxEdges)) begin
             case (field_q)
               3'd0: begin
@@ -351,16 +351,16 @@ module rheo_core #(
             endcase
           end
         end
-        4'(rheo_fixed_pkg::RegionMaterial): begin
+        4'(rheo_consts_pkg::RegionMaterial): begin
           if (index_q < 24'(MaxMaterials)) begin
             if (field_q < 6) mat_coef[MIdxW'(index_q)][field_q] <= s_axis_tdata[CoefW-1:0];
             else mat_flags[MIdxW'(index_q)] <= s_axis_tdata[1:0];
           end
         end
-        4'(rheo_fixed_pkg::RegionGather): begin
+        4'(rheo_consts_pkg::RegionGather): begin
           if (index_q < 24'(MaxGather)) gather_mem[GIdxW'(index_q)] <= s_axis_tdata[30:0];
         end
-        4'(rheo_fixed_pkg::RegionEdgeLength): begin
+        4'(rheo_consts_pkg::RegionEdgeLength): begin
           if (index_q < 24'(MaxEdges)) ed_mem[EIdxW'(index_q)] <= s_axis_tdata;
         end
         default: ;
@@ -389,10 +389,10 @@ module rheo_core #(
     logic [CoefW-1:0] mat_arm [MaxMaterials][2];
     logic [W-1:0] em1 [Lanes];
     always_ff @(posedge clk_i) begin
-      if (host_we && region_q == 4'(rheo_fixed_pkg::RegionMaterialArm) &&
+      if (host_we && region_q == 4'(rheo_consts_pkg::RegionMaterialArm) &&
           index_q < 24'(MaxMaterials))
         mat_arm[MIdxW'(index_q)][field_q[0]] <= s_axis_tdata[CoefW-1:0];
-      if (host_we && region_q == 4'(rheo_fixed_pkg::RegionEdgeArm) && index_q < 24'(MaxEdges))
+      if (host_we && region_q == 4'(rheo_consts_pkg::RegionEdgeArm) && index_q < 24'(MaxEdges))
         em_mem[EIdxW'(index_q)] <= s_axis_tdata;
       for (int j = 0; j < Lanes; j++) begin
         em1[j] <= em_mem[EIdxW'(row_q * 24'(Lanes) + 24'(j))];
@@ -420,16 +420,16 @@ module rheo_core #(
   always_comb begin
     read_word = '0;
     case (region_q)
-      4'(rheo_fixed_pkg::RegionParticleState): begin
+      4'(rheo_consts_pkg::RegionParticleState): begin
         if (index_q < 24'(MaxParticles)) begin
           if (field_q < 3) read_word = px_mem[PIdxW'(index_q)][field_q[1:0]];
           else read_word = pp_mem[PIdxW'(index_q)][2'(field_q - 3'd3)];
         end
       end
-      4'(rheo_fixed_pkg::RegionEdgeLength): begin
+      4'(rheo_consts_pkg::RegionEdgeLength): begin
         if (index_q < 24'(MaxEdges)) read_word = ed_mem[EIdxW'(index_q)];
       end
-      4'(rheo_fixed_pkg::RegionEdgeArm): begin
+      4'(rheo_consts_pkg::RegionEdgeArm): begin
         if (MaxwellArm != 0 && index_q < 24'(MaxEdges)) read_word = arm_read_word;
       end
       default: read_word = '0;
@@ -451,11 +451,11 @@ module rheo_core #(
   always_comb begin
     lane_flags = '0;
     for (int j = 0; j < Lanes; j++) begin
-      if (tem_sat[j]) lane_flags = lane_flags | 32'(rheo_fixed_pkg::StatusTemSat);
-      if (tem_deg[j]) lane_flags = lane_flags | 32'(rheo_fixed_pkg::StatusDegenerate);
-      if (mpm_sat[j]) lane_flags = lane_flags | 32'(rheo_fixed_pkg::StatusMpmSat);
+      if (tem_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusTemSat);
+      if (tem_deg[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusDegenerate);
+      if (mpm_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
       if (gv2[j] && gent2[j][30] && acc_clip[j])
-        lane_flags = lane_flags | 32'(rheo_fixed_pkg::StatusMpmSat);
+        lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
     end
   end
 
@@ -494,24 +494,24 @@ module rheo_core #(
             count_q <= s_axis_tdata[23:0];
             field_q <= '0;
             case (s_axis_tdata[31:28])
-              4'(rheo_fixed_pkg::OpWrite): begin
+              4'(rheo_consts_pkg::OpWrite): begin
                 if (s_axis_tdata[27:24] >= 4'(CoreRegions))
-                  status_q <= status_q | 32'(rheo_fixed_pkg::StatusBadCommand);
+                  status_q <= status_q | 32'(rheo_consts_pkg::StatusBadCommand);
                 else state_q <= StWStart;
               end
-              4'(rheo_fixed_pkg::OpRead): begin
+              4'(rheo_consts_pkg::OpRead): begin
                 if (s_axis_tdata[27:24] >= 4'(CoreRegions))
-                  status_q <= status_q | 32'(rheo_fixed_pkg::StatusBadCommand);
+                  status_q <= status_q | 32'(rheo_consts_pkg::StatusBadCommand);
                 else state_q <= StRStart;
               end
-              4'(rheo_fixed_pkg::OpRun): begin
+              4'(rheo_consts_pkg::OpRun): begin
                 if (s_axis_tdata[23:0] != 0) state_q <= StRunPlate;
               end
-              4'(rheo_fixed_pkg::OpStatus): begin
+              4'(rheo_consts_pkg::OpStatus): begin
                 clear_q <= s_axis_tdata[0];
                 state_q <= StStatFetch;
               end
-              default: status_q <= status_q | 32'(rheo_fixed_pkg::StatusBadCommand);
+              default: status_q <= status_q | 32'(rheo_consts_pkg::StatusBadCommand);
             endcase
           end
         end
@@ -523,7 +523,7 @@ module rheo_core #(
         end
         StWData: begin
           if (in_fire) begin
-            if (region_q == 4'(rheo_fixed_pkg::RegionGlobals)) begin
+            if (region_q == 4'(rheo_consts_pkg::RegionGlobals)) begin
               case (index_q)
                 24'd0: num_particles_q <= s_axis_tdata[23:0];
                 24'd1: num_edges_q <= s_axis_tdata[23:0];
@@ -535,7 +535,7 @@ module rheo_core #(
                   floor_en_q <= s_axis_tdata[0];
                   plate_en_q <= s_axis_tdata[1];
                 end
-                default: status_q <= status_q | 32'(rheo_fixed_pkg::StatusBadCommand);
+                default: status_q <= status_q | 32'(rheo_consts_pkg::StatusBadCommand);
               endcase
             end
             if (entry_done) begin
@@ -578,14 +578,14 @@ module rheo_core #(
         StStatFetch: begin
           out_data_q <= status_word;
           out_valid_q <= 1'b1;
-          out_last_q <= (field_q == 3'(rheo_fixed_pkg::StatusWords - 1));
+          out_last_q <= (field_q == 3'(rheo_consts_pkg::StatusWords - 1));
           state_q <= StStatSend;
         end
         StStatSend: begin
           if (out_fire) begin
             out_valid_q <= 1'b0;
             out_last_q <= 1'b0;
-            if (field_q == 3'(rheo_fixed_pkg::StatusWords - 1)) begin
+            if (field_q == 3'(rheo_consts_pkg::StatusWords - 1)) begin
               field_q <= '0;
               if (clear_q) status_q <= lane_flags;
               state_q <= StIdle;
@@ -628,9 +628,9 @@ module rheo_core #(
         end
         StMpmDrain: begin
           if (drain_q == 0) begin
-            out_data_q <= rheo_fixed_pkg::sat_word(WideW'(plate_sum));
-            if (rheo_fixed_pkg::clips(WideW'(plate_sum), W))
-              status_q <= status_q | lane_flags | 32'(rheo_fixed_pkg::StatusPlateSat);
+            out_data_q <= rheo_consts_pkg::sat_word(WideW'(plate_sum));
+            if (rheo_consts_pkg::clips(WideW'(plate_sum), W))
+              status_q <= status_q | lane_flags | 32'(rheo_consts_pkg::StatusPlateSat);
             out_valid_q <= 1'b1;
             out_last_q <= (count_q == 24'd1);
             step_count_q <= step_count_q + 32'd1;

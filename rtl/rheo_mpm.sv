@@ -10,7 +10,7 @@
 // Latency: 5 clocks (input register, minv f, p, x, constraints). Mirrors
 // rheo::hls::mpm_particle. Multipliers: 3 (minv f; gravity and dt are folded).
 module rheo_mpm #(
-  parameter int W = 32,      // state word width (rheo_fixed_pkg::Width)
+  parameter int W = 32,      // state word width (rheo_consts_pkg::Width)
   parameter int CoefW = 24,  // packed coefficient {shift, mantissa}
   parameter int IdxW = 12    // particle index carried alongside
 ) (
@@ -35,13 +35,13 @@ module rheo_mpm #(
   output logic [W-1:0]    plate_f_o,   // f.z when the plate holds the particle, else 0
   output logic            sat_o
 );
-  localparam int WideW = rheo_fixed_pkg::WideW;
-  localparam int FracX = rheo_fixed_pkg::FracX;
-  localparam int FracP = rheo_fixed_pkg::FracP;
+  localparam int WideW = rheo_consts_pkg::WideW;
+  localparam int FracX = rheo_consts_pkg::FracX;
+  localparam int FracP = rheo_consts_pkg::FracP;
   localparam int Last = 4;
 
-  if (W != rheo_fixed_pkg::Width) begin : g_width_check
-    $error("rheo_mpm: W must equal rheo_fixed_pkg::Width");
+  if (W != rheo_consts_pkg::Width) begin : g_width_check
+    $error("rheo_mpm: W must equal rheo_consts_pkg::Width");
   end
 
   function automatic logic signed [WideW-1:0] wide(input logic signed [W-1:0] v);
@@ -73,18 +73,18 @@ module rheo_mpm #(
     clip3 = 1'b0;
     for (int i = 0; i < 3; i++) begin
       // stage 1
-      dp_w[i] = rheo_fixed_pkg::mul_coef_wide(f_q[0][i], minv_q, rheo_fixed_pkg::ShiftMinv);
-      clip1 = clip1 | rheo_fixed_pkg::clips(dp_w[i], W);
+      dp_w[i] = rheo_consts_pkg::mul_coef_wide(f_q[0][i], minv_q, rheo_consts_pkg::ShiftMinv);
+      clip1 = clip1 | rheo_consts_pkg::clips(dp_w[i], W);
       // stage 2
       p1_w[i] = wide(p_q[1][i]) + wide(dp_q[i]);
-      p1[i] = rheo_fixed_pkg::sat_word(p1_w[i]);
+      p1[i] = rheo_consts_pkg::sat_word(p1_w[i]);
       p_w[i] = wide(p1[i]) + wide(g_i[i*W +: W]);
-      clip2 = clip2 | rheo_fixed_pkg::clips(p1_w[i], W) | rheo_fixed_pkg::clips(p_w[i], W);
+      clip2 = clip2 | rheo_consts_pkg::clips(p1_w[i], W) | rheo_consts_pkg::clips(p_w[i], W);
       // stage 3
-      x_w[i] = wide(x_q[2][i]) + rheo_fixed_pkg::round_shift(wide(p_q[2][i]), FracP - FracX);
-      clip3 = clip3 | rheo_fixed_pkg::clips(x_w[i], W);
+      x_w[i] = wide(x_q[2][i]) + rheo_consts_pkg::round_shift(wide(p_q[2][i]), FracP - FracX);
+      clip3 = clip3 | rheo_consts_pkg::clips(x_w[i], W);
     end
-    lim_w = rheo_fixed_pkg::round_shift(wide(plate_z_i) - wide(x_q[2][2]), -(FracP - FracX));
+    lim_w = rheo_consts_pkg::round_shift(wide(plate_z_i) - wide(x_q[2][2]), -(FracP - FracX));
     clip4 = 1'b0;
     // stage 4: constraints
     for (int i = 0; i < 3; i++) begin
@@ -140,16 +140,16 @@ module rheo_mpm #(
       flags_q[s] <= flags_q[s-1];
     end
     // stage 1
-    for (int i = 0; i < 3; i++) dp_q[i] <= rheo_fixed_pkg::sat_word(dp_w[i]);
+    for (int i = 0; i < 3; i++) dp_q[i] <= rheo_consts_pkg::sat_word(dp_w[i]);
     sat_q[1] <= clip1;
     // stage 2
-    for (int i = 0; i < 3; i++) p_q[2][i] <= rheo_fixed_pkg::sat_word(p_w[i]);
+    for (int i = 0; i < 3; i++) p_q[2][i] <= rheo_consts_pkg::sat_word(p_w[i]);
     sat_q[2] <= sat_q[1] | clip2;
     // stage 3
-    for (int i = 0; i < 3; i++) x_q[3][i] <= rheo_fixed_pkg::sat_word(x_w[i]);
+    for (int i = 0; i < 3; i++) x_q[3][i] <= rheo_consts_pkg::sat_word(x_w[i]);
     sat_q[3] <= sat_q[2] | clip3;
-    lim_q <= rheo_fixed_pkg::sat_word(lim_w);
-    lim_clip_q <= rheo_fixed_pkg::clips(lim_w, W);
+    lim_q <= rheo_consts_pkg::sat_word(lim_w);
+    lim_clip_q <= rheo_consts_pkg::clips(lim_w, W);
     // stage 4
     for (int i = 0; i < 3; i++) begin
       x_q[4][i] <= x_c[i];

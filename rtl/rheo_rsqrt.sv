@@ -15,11 +15,11 @@ module rheo_rsqrt #(
   output logic signed [7:0] k_o,        // l2 = M * 4^k
   output logic           degenerate_o   // l2 == 0
 );
-  localparam int WideW = rheo_fixed_pkg::WideW;
-  localparam int Iter = rheo_fixed_pkg::RsqrtIterations;
-  localparam int Frac = rheo_fixed_pkg::RsqrtFrac;
-  localparam int IdxW = rheo_fixed_pkg::RsqrtIndexBits;
-  localparam int SeedW = rheo_fixed_pkg::RsqrtSeedBits;
+  localparam int WideW = rheo_consts_pkg::WideW;
+  localparam int Iter = rheo_consts_pkg::RsqrtIterations;
+  localparam int Frac = rheo_consts_pkg::RsqrtFrac;
+  localparam int IdxW = rheo_consts_pkg::RsqrtIndexBits;
+  localparam int SeedW = rheo_consts_pkg::RsqrtSeedBits;
   // Stages: 0 normalise, 1 seed, then 3 per iteration.
   localparam int Stages = 2 + 3 * Iter;
 
@@ -53,7 +53,7 @@ module rheo_rsqrt #(
     mant_q[1] <= mant_q[0];
     k_q[1] <= k_q[0];
     deg_q[1] <= deg_q[0];
-    y_q[1] <= 32'(rheo_fixed_pkg::rsqrt_seed(mant_q[0][31 -: IdxW])) << (Frac - (SeedW - 1));
+    y_q[1] <= 32'(rheo_consts_pkg::rsqrt_seed(mant_q[0][31 -: IdxW])) << (Frac - (SeedW - 1));
     tmp_q[1] <= '0;
   end
 
@@ -66,12 +66,12 @@ module rheo_rsqrt #(
         deg_q[2+3*it+j] <= deg_q[1+3*it+j];
       end
       y_q[2+3*it] <= y_q[1+3*it];
-      tmp_q[2+3*it] <= rheo_fixed_pkg::round_shift(
+      tmp_q[2+3*it] <= rheo_consts_pkg::round_shift(
           WideW'($signed({1'b0, y_q[1+3*it]})) * WideW'($signed({1'b0, y_q[1+3*it]})), Frac);
       y_q[3+3*it] <= y_q[2+3*it];
-      tmp_q[3+3*it] <= (WideW'(3) <<< Frac) - rheo_fixed_pkg::round_shift(
+      tmp_q[3+3*it] <= (WideW'(3) <<< Frac) - rheo_consts_pkg::round_shift(
           WideW'($signed({1'b0, mant_q[2+3*it]})) * tmp_q[2+3*it], Frac);
-      y_q[4+3*it] <= 32'(rheo_fixed_pkg::round_shift(
+      y_q[4+3*it] <= 32'(rheo_consts_pkg::round_shift(
           WideW'($signed({1'b0, y_q[3+3*it]})) * tmp_q[3+3*it], Frac + 1));
       tmp_q[4+3*it] <= '0;
     end

@@ -16,7 +16,7 @@
 //   stage 16: m' = m + dm.  Same latency; +2 multipliers (27). MaxwellArm = 0 builds
 // exactly the baseline TEM (m_i ignored, m_o = 0).
 module rheo_tem #(
-  parameter int W = 32,      // state word width (rheo_fixed_pkg::Width)
+  parameter int W = 32,      // state word width (rheo_consts_pkg::Width)
   parameter int CoefW = 24,  // packed coefficient {shift, mantissa}
   parameter int IdxW = 16,   // edge index carried alongside
   parameter int MaxwellArm = 0,  // 1: with the parallel Maxwell arm
@@ -43,25 +43,25 @@ module rheo_tem #(
   output logic              sat_o,      // a result of this edge saturated
   output logic              degenerate_o// this edge has zero length
 );
-  localparam int WideW = rheo_fixed_pkg::WideW;
-  localparam int FracX = rheo_fixed_pkg::FracX;
-  localparam int FracP = rheo_fixed_pkg::FracP;
-  localparam int FracU = rheo_fixed_pkg::FracU;
+  localparam int WideW = rheo_consts_pkg::WideW;
+  localparam int FracX = rheo_consts_pkg::FracX;
+  localparam int FracP = rheo_consts_pkg::FracP;
+  localparam int FracU = rheo_consts_pkg::FracU;
   localparam int Last = 17;
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
 
-  if (W != rheo_fixed_pkg::Width) begin : g_width_check
-    $error("rheo_tem: W must equal rheo_fixed_pkg::Width");
+  if (W != rheo_consts_pkg::Width) begin : g_width_check
+    $error("rheo_tem: W must equal rheo_consts_pkg::Width");
   end
 
   function automatic logic signed [WideW-1:0] wide(input logic signed [W-1:0] v);
     wide = WideW'(v);
   endfunction
   function automatic logic clip(input logic signed [WideW-1:0] v);
-    clip = rheo_fixed_pkg::clips(v, W);
+    clip = rheo_consts_pkg::clips(v, W);
   endfunction
   function automatic logic signed [W-1:0] sat(input logic signed [WideW-1:0] v);
-    sat = rheo_fixed_pkg::sat_word(v);
+    sat = rheo_consts_pkg::sat_word(v);
   endfunction
 
   // ---- pipeline registers, indexed by stage ----
@@ -119,30 +119,30 @@ module rheo_tem #(
     ds_w = wide(d_q[0]) - wide(len_q);
     clip1 = clip1 | clip(ds_w);
     // stage 12: l = M Y 2^(k-45), u = r Y 2^-(k+15)
-    l_w = rheo_fixed_pkg::round_shift(WideW'($signed({1'b0, rs_mant})) * WideW'($signed({1'b0, rs_y})),
+    l_w = rheo_consts_pkg::round_shift(WideW'($signed({1'b0, rs_mant})) * WideW'($signed({1'b0, rs_y})),
                                       45 - 32'(rs_k));
     clip12 = clip(l_w);
     for (int i = 0; i < 3; i++) begin
-      u_w[i] = rheo_fixed_pkg::round_shift(wide(r_q[11][i]) * WideW'($signed({1'b0, rs_y})),
+      u_w[i] = rheo_consts_pkg::round_shift(wide(r_q[11][i]) * WideW'($signed({1'b0, rs_y})),
                                            32'(rs_k) + 15);
-      clip12 = clip12 | rheo_fixed_pkg::clips(u_w[i], 32);
+      clip12 = clip12 | rheo_consts_pkg::clips(u_w[i], 32);
     end
     // stage 13: ldot = u . dp
-    ldot_w = rheo_fixed_pkg::round_shift(
+    ldot_w = rheo_consts_pkg::round_shift(
         WideW'(u_q[12][0]) * wide(dp_q[12][0]) + WideW'(u_q[12][1]) * wide(dp_q[12][1]) +
         WideW'(u_q[12][2]) * wide(dp_q[12][2]), FracU);
     clip13 = clip(ldot_w);
     // stage 14: the six coefficient products
-    dd_beta_w = rheo_fixed_pkg::mul_coef_wide(ldot_q[13], coef_q[13][CBeta],
-                                              rheo_fixed_pkg::ShiftBeta);
-    dd_alpha_w = rheo_fixed_pkg::mul_coef_wide(ds_q[13], coef_q[13][CAlpha],
-                                               rheo_fixed_pkg::ShiftAlpha);
-    t_spring_w = rheo_fixed_pkg::mul_coef_wide(ds_q[13], coef_q[13][CKt],
-                                               rheo_fixed_pkg::ShiftKt);
-    t_damper_w = rheo_fixed_pkg::mul_coef_wide(ldot_q[13], coef_q[13][CCt],
-                                               rheo_fixed_pkg::ShiftCt);
-    lo_w = rheo_fixed_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmin], rheo_fixed_pkg::ShiftClamp);
-    hi_w = rheo_fixed_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmax], rheo_fixed_pkg::ShiftClamp);
+    dd_beta_w = rheo_consts_pkg::mul_coef_wide(ldot_q[13], coef_q[13][CBeta],
+                                              rheo_consts_pkg::ShiftBeta);
+    dd_alpha_w = rheo_consts_pkg::mul_coef_wide(ds_q[13], coef_q[13][CAlpha],
+                                               rheo_consts_pkg::ShiftAlpha);
+    t_spring_w = rheo_consts_pkg::mul_coef_wide(ds_q[13], coef_q[13][CKt],
+                                               rheo_consts_pkg::ShiftKt);
+    t_damper_w = rheo_consts_pkg::mul_coef_wide(ldot_q[13], coef_q[13][CCt],
+                                               rheo_consts_pkg::ShiftCt);
+    lo_w = rheo_consts_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmin], rheo_consts_pkg::ShiftClamp);
+    hi_w = rheo_consts_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmax], rheo_consts_pkg::ShiftClamp);
     clip14 = clip(dd_beta_w) | clip(dd_alpha_w) | clip(t_spring_w) | clip(t_damper_w) |
              clip(lo_w) | clip(hi_w);
     // stage 15: dd and T
@@ -152,10 +152,10 @@ module rheo_tem #(
     // stage 16: f = T u, d + dd
     clip16 = 1'b0;
     for (int i = 0; i < 3; i++) begin
-      f_w[i] = rheo_fixed_pkg::round_shift(wide(tension_q) * WideW'(u_q[15][i]), FracU);
+      f_w[i] = rheo_consts_pkg::round_shift(wide(tension_q) * WideW'(u_q[15][i]), FracU);
       clip16 = clip16 | clip(f_w[i]);
     end
-    dnew_w = wide(d_q[15]) + rheo_fixed_pkg::round_shift(wide(dd_q), FracP - FracX);
+    dnew_w = wide(d_q[15]) + rheo_consts_pkg::round_shift(wide(dd_q), FracP - FracX);
     clip16 = clip16 | clip(dnew_w);
     // stage 17: length-ratio clamp
     dclamp = dnew_q;
@@ -221,7 +221,7 @@ module rheo_tem #(
     // stage 12
     deg_q[12] <= rs_deg;
     l_q[12] <= sat(l_w);
-    for (int i = 0; i < 3; i++) u_q[12][i] <= rheo_fixed_pkg::sat_word(u_w[i]);
+    for (int i = 0; i < 3; i++) u_q[12][i] <= rheo_consts_pkg::sat_word(u_w[i]);
     sat_q[12] <= sat_q[11] | clip12;
     // stage 13
     ldot_q[13] <= sat(ldot_w);
@@ -260,17 +260,17 @@ module rheo_tem #(
     assign unused_tension_w = ^tension_w;
     always_comb begin
       // stage 14: m gamma (X -> P) and k2t m (X -> F)
-      m_decay_w = rheo_fixed_pkg::mul_coef_wide(m_q[13], coef_q[13][CGamma],
-                                                rheo_fixed_pkg::ShiftGamma);
-      t_arm_w = rheo_fixed_pkg::mul_coef_wide(m_q[13], coef_q[13][CK2t],
-                                              rheo_fixed_pkg::ShiftK2t);
+      m_decay_w = rheo_consts_pkg::mul_coef_wide(m_q[13], coef_q[13][CGamma],
+                                                rheo_consts_pkg::ShiftGamma);
+      t_arm_w = rheo_consts_pkg::mul_coef_wide(m_q[13], coef_q[13][CK2t],
+                                              rheo_consts_pkg::ShiftK2t);
       clip_arm14 = clip(m_decay_w) | clip(t_arm_w);
       // stage 15: the arm's force joins T in one wide sum; dm = ldot - m gamma
       tension_sel_w = wide(t_spring_q) + wide(t_damper_q) + wide(t_arm_q);
       dm_w = wide(ldot_q[14]) - wide(m_decay_q);
       clip_tension15 = clip(tension_sel_w) | clip(dm_w);
       // stage 16: m + dm (P -> X)
-      mnew_w = wide(m_q[15]) + rheo_fixed_pkg::round_shift(wide(dm_q), FracP - FracX);
+      mnew_w = wide(m_q[15]) + rheo_consts_pkg::round_shift(wide(dm_q), FracP - FracX);
       clip_arm16 = clip(mnew_w);
     end
     always_ff @(posedge clk_i) begin

@@ -142,22 +142,22 @@ void run(const Options& opt) {
     spec.label = label;
     if (label == "tem") {
       spec.top = "rheo_tem";
-      spec.sources = {"rheo_fixed_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+      spec.sources = {"rheo_consts_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
     } else if (label == "tem_arm") {
       // The TEM with the parallel Maxwell arm (second_relaxation_time, issue 6).
       spec.top = "rheo_tem";
-      spec.sources = {"rheo_fixed_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+      spec.sources = {"rheo_consts_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
       spec.params = {"MaxwellArm=1"};
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
-      spec.sources = {"rheo_fixed_pkg.sv", "rheo_mpm.sv"};
+      spec.sources = {"rheo_consts_pkg.sv", "rheo_mpm.sv"};
     } else if (label == "core") {
       spec.top = opt.core_top;
-      spec.sources = {"rheo_fixed_pkg.sv"};
+      spec.sources = {"rheo_consts_pkg.sv"};
       std::vector<std::string> others;
       for (const auto& entry : fs::directory_iterator(setup.rtl_dir)) {
         const std::string name = entry.path().filename().string();
-        if (entry.path().extension() == ".sv" && name != "rheo_fixed_pkg.sv") {
+        if (entry.path().extension() == ".sv" && name != "rheo_consts_pkg.sv") {
           others.push_back(name);
         }
       }

@@ -1,6 +1,6 @@
 // The core's stream format: the words the host sends on s_axis and receives on m_axis.
 // Shared by the host driver (both in-process devices), the RTL testbench and, through the
-// generated package rtl/rheo_fixed_pkg.sv, the RTL command decoder. Framing only: a
+// generated package rtl/rheo_consts_pkg.sv, the RTL command decoder. Framing only: a
 // transport (in-process call, socket, board link) carries these words unchanged.
 //
 // Every command starts with a header word  [31:28] opcode  [27:24] region  [23:0] count.

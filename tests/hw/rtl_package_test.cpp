@@ -1,4 +1,4 @@
-// rtl/rheo_fixed_pkg.sv is generated from hls/fixed_format.hpp and
+// rtl/rheo_consts_pkg.sv is generated from hls/fixed_format.hpp and
 // host/driver/frame_format.hpp: the checked-in copy must equal the generator's output, so
 // RTL, bit-true model and host cannot disagree on a width, binary point or opcode.
 #include <gtest/gtest.h>
@@ -26,7 +26,7 @@ TEST(RtlPackage, CheckedInPackageEqualsTheGeneratorOutput) {
   ASSERT_TRUE(f) << RHEO_RTL_PKG_FILE;
   std::stringstream ss;
   ss << f.rdbuf();
-  EXPECT_EQ(ss.str(), run_generator()) << "regenerate: rheo_gen_rtl_pkg > rtl/rheo_fixed_pkg.sv";
+  EXPECT_EQ(ss.str(), run_generator()) << "regenerate: rheo_gen_rtl_pkg > rtl/rheo_consts_pkg.sv";
 }
 
 }  // namespace

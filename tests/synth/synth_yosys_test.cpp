@@ -25,7 +25,7 @@ constexpr int kMaxTemMultipliers = 4 * 25 + 8;
 TEST(YosysSynthesis, TemReportIsParsedAndPlausible) {
   const fs::path out = fs::temp_directory_path() / "rheo_synth_yosys_test";
   fs::remove_all(out);
-  DesignSpec spec{"tem", "rheo_tem", {"rheo_fixed_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"}, {}};
+  DesignSpec spec{"tem", "rheo_tem", {"rheo_consts_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"}, {}};
   const SynthResult r = run_synthesis(spec, default_setup(), out);
   EXPECT_GT(r.resources.lut4, 1000);
   EXPECT_GT(r.resources.ff, 500);  // 18 pipeline stages of 32-bit words

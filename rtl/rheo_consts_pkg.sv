@@ -2,7 +2,7 @@
 // host/driver/frame_format.hpp. Do not edit; regenerate instead.
 // Fixed-point formats, rsqrt seed ROM, command encoding and the rounding/saturation
 // primitives shared by every module of the core.
-package rheo_fixed_pkg;
+package rheo_consts_pkg;
   localparam int Width = 32;  // state word width
   localparam int FracX = 27;  // fractional bits of positions and lengths
   localparam int FracP = 31;  // fractional bits of displacement per step
