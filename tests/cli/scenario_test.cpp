@@ -1,6 +1,7 @@
 // Scenario loading: every built-in builds a valid, stable model; every kind of bad input
 // is rejected with a message that names the file, the field and what was expected.
 #include <gtest/gtest.h>
+#include <cctype>
 
 #include <filesystem>
 #include <fstream>
@@ -184,7 +185,16 @@ INSTANTIATE_TEST_SUITE_P(
                     BadValue{"/integrator/mass_scale", -5.0, "positive"},
                     BadValue{"/protocol/depth_mm", 50.0, "below the block height"},
                     BadValue{"/protocol/speed_mm_s", 0.0, "positive"},
-                    BadValue{"/protocol/type", "sine", "push_hold_release"}));
+                    BadValue{"/protocol/type", "sine", "push_hold_release"}),
+    // Stable names (index and field): the default name prints the parameter's bytes, which
+    // hold heap addresses and so differ between test discovery and the test run.
+    [](const testing::TestParamInfo<BadValue>& info) {
+      std::string name = std::to_string(info.index);
+      for (const char* c = info.param.pointer; *c; ++c) {
+        name += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
+      }
+      return name;
+    });
 
 TEST(BadScenario, ProtocolTimesMustIncreaseStrictly) {
   json j = block5_json();
