@@ -1,6 +1,8 @@
 // Scenario loading: every built-in builds a valid, stable model; every kind of bad input
 // is rejected with a message that names the file, the field and what was expected.
 #include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <cctype>
 
 #include <filesystem>
@@ -23,7 +25,10 @@ class ScenarioFile {
  public:
   explicit ScenarioFile(const std::string& text) {
     path_ = (std::filesystem::temp_directory_path() /
-             ("rheo_scenario_test_" + std::to_string(counter_++) + ".json"))
+             // ctest runs each test in its own process, in parallel: the pid keeps
+             // their files apart.
+             ("rheo_scenario_test_" + std::to_string(::getpid()) + "_" +
+              std::to_string(counter_++) + ".json"))
                 .string();
     std::ofstream(path_) << text;
   }
