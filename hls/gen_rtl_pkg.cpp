@@ -47,6 +47,8 @@ int main() {
   param("ShiftMinv", Shifts::kMinv, "extra shift of minv*F: F -> P");
   param("ShiftGamma", Shifts::kGamma, "extra shift of gamma*m: X -> P");
   param("ShiftK2t", Shifts::kK2t, "extra shift of k2t*m: X -> F");
+  param("TemLatency", h::kTemLatency, "rheo_tem: clocks from valid_i to valid_o");
+  param("MpmLatency", h::kMpmLatency, "rheo_mpm: clocks from valid_i to valid_o");
   param("TemDrain", h::kTemDrainCycles, "clocks from the last TEM issue to its write");
   param("MpmDrain", h::kMpmDrainCycles, "clocks from the last gather issue to its write");
   param("ForceAccW", Fmt::kWidth + h::kForceAccGuardBits, "per-particle force sum");

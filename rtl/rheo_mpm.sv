@@ -38,7 +38,7 @@ module rheo_mpm #(
   localparam int WideW = rheo_consts_pkg::WideW;
   localparam int FracX = rheo_consts_pkg::FracX;
   localparam int FracP = rheo_consts_pkg::FracP;
-  localparam int Last = 4;
+  localparam int Last = rheo_consts_pkg::MpmLatency - 1;  // index of the output stage
 
   if (W != rheo_consts_pkg::Width) begin : g_width_check
     $error("rheo_mpm: W must equal rheo_consts_pkg::Width");

@@ -47,7 +47,7 @@ module rheo_tem #(
   localparam int FracX = rheo_consts_pkg::FracX;
   localparam int FracP = rheo_consts_pkg::FracP;
   localparam int FracU = rheo_consts_pkg::FracU;
-  localparam int Last = 17;
+  localparam int Last = rheo_consts_pkg::TemLatency - 1;  // index of the output stage
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
 
   if (W != rheo_consts_pkg::Width) begin : g_width_check
