@@ -304,12 +304,28 @@ StepReport Simulator::step(double plate_z) {
   return report;
 }
 
+void Simulator::apply_contacts(int i, double z_start, double plate_z, double force_z,
+                               StepReport* report) {
+  Vec3& x = state_.x[i];
+  Vec3& v = state_.v[i];
+  if (model_.floor && x.z() < 0.0) {
+    x.z() = 0.0;
+    v.z() = std::max(v.z(), 0.0);
+  }
+  if (model_.flags[i] == kPlate && x.z() > plate_z) {
+    x.z() = plate_z;
+    // The held particle moves with the plate: its velocity must match its position
+    // change, otherwise the edges never see the plate's strain rate (see simulator.hpp).
+    v.z() = std::min(v.z(), (plate_z - z_start) * (1.0 / options_.dt));
+    report->plate_force_N += force_z;
+    ++report->contacts;
+  }
+}
+
 StepReport Simulator::step_sie(double plate_z) {
   compute_forces(state_, force_, ddot_, mdot_, &length_);
   const double dt = options_.dt;
-  const double inv_dt = 1.0 / dt;
   const Vec3 g = model_.gravity;
-  const bool floor = model_.floor;
   const bool external = !external_.empty();
   StepReport report;
   report.plate_z = plate_z;
@@ -328,18 +344,7 @@ StepReport Simulator::step_sie(double plate_z) {
     if (external) accel += external_[i] / model_.mass[i];
     v += dt * accel;
     x += dt * v;
-    if (floor && x.z() < 0.0) {
-      x.z() = 0.0;
-      v.z() = std::max(v.z(), 0.0);
-    }
-    if (flag == kPlate && x.z() > plate_z) {
-      x.z() = plate_z;
-      // The held particle moves with the plate: its velocity must match its position
-      // change, otherwise the edges never see the plate's strain rate (see simulator.hpp).
-      v.z() = std::min(v.z(), (plate_z - z_start) * inv_dt);
-      report.plate_force_N += force_[i].z();
-      ++report.contacts;
-    }
+    apply_contacts(i, z_start, plate_z, force_[i].z(), &report);
   }
   const int ne = model_.num_edges();
   const bool any_arm = std::any_of(model_.materials.begin(), model_.materials.end(),
@@ -404,16 +409,7 @@ StepReport Simulator::step_rk4(double plate_z) {
     const double z_start = x.z();
     x += w * (velocity(0, i) + 2.0 * velocity(1, i) + 2.0 * velocity(2, i) + velocity(3, i));
     v += w * (accel(0, i) + 2.0 * accel(1, i) + 2.0 * accel(2, i) + accel(3, i));
-    if (model_.floor && x.z() < 0.0) {
-      x.z() = 0.0;
-      v.z() = std::max(v.z(), 0.0);
-    }
-    if (flag == kPlate && x.z() > plate_z) {
-      x.z() = plate_z;
-      v.z() = std::min(v.z(), (plate_z - z_start) / dt);
-      report.plate_force_N += stage_f_[0][i].z();
-      ++report.contacts;
-    }
+    apply_contacts(i, z_start, plate_z, stage_f_[0][i].z(), &report);
   }
   for (int k = 0; k < ne; ++k) {
     const EdgeMaterial& m = model_.materials[model_.edges[k].material];

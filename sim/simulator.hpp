@@ -110,6 +110,9 @@ class Simulator {
   double element_volume(const std::vector<Vec3>& x, std::size_t element) const;
   StepReport step_sie(double plate_z);
   StepReport step_rk4(double plate_z);
+  // Floor and plate constraints on particle i after its update (both integrators):
+  // z_start is its height before the step, force_z the z force the plate reports.
+  void apply_contacts(int i, double z_start, double plate_z, double force_z, StepReport* report);
   StepReport apply_constraints(double plate_z, const std::vector<Vec3>& f_start);
   void check_finite() const;
 
