@@ -36,7 +36,25 @@ struct Expected {
 
 struct Coverage {
   int checked = 0, saturated = 0, held = 0, floored = 0, fixed = 0, left_shift = 0;
+  int rounds_out = 0;  // minv f rounds to exactly 2^31: the rounding leaves the word
+  int rounds_to_min = 0;  // minv f rounds to exactly -2^31 from below: the word's end
 };
+
+// A coefficient and forces whose products minv f land within a few LSBs of +-2^31 after
+// the shift: the edges of dp's saturation, 2^31 - 1/2 (rounds out of the word) included.
+Coef word_edge_coef(std::int64_t f[3], std::mt19937_64& rng) {
+  std::uniform_int_distribution<int> net_shift(1, 16);
+  std::uniform_int_distribution<int> mant(1 << 16, (1 << 17) - 1);
+  std::uniform_int_distribution<int> offset(-3, 3);
+  const int s = net_shift(rng);
+  const int m = mant(rng);
+  for (int a = 0; a < 3; ++a) {
+    // f m 2^-s = +-2^31 (+- a few half LSBs): f = +-2^(31 + s) / m, nudged.
+    const std::int64_t edge = (std::int64_t(1) << (31 + s)) / m;
+    f[a] = (a == 1 ? -edge : edge) + offset(rng);
+  }
+  return Coef{m, s - CoefShifts<Fmt>::kMinv};
+}
 
 class RtlMpmTest : public ::testing::Test {
  protected:
@@ -132,7 +150,6 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
     g.floor_enable = unit(rng) < 0.7;
     set_globals(g);
     for (int n = 0; n < kParticlesPerPass; ++n) {
-      mpm_->valid_i = 0;
       if (unit(rng) < 0.05) {  // a few bubbles
         issue(nullptr, nullptr, g);
         clock();
@@ -150,12 +167,22 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
       }
       // minv as the host encodes it (mass scaling over many decades), or any coefficient
       // word at all: shifts below -kMinv make the product shift left.
-      if (unit(rng) < 0.8) {
+      const double coef_kind = unit(rng);
+      if (coef_kind < 0.75) {
         q.minv = driver::encode_coef(std::exp2(-2 - 22 * unit(rng)), "minv",
                                      CoefShifts<Fmt>::kMinv);
-      } else {
+      } else if (coef_kind < 0.95) {
         q.minv = Coef{mant(rng), shift(rng)};
         cov_.left_shift += q.minv.shift + CoefShifts<Fmt>::kMinv < 0;
+      } else {
+        q.minv = word_edge_coef(f, rng);
+      }
+      for (int a = 0; a < 3; ++a) {
+        const int s = q.minv.shift + CoefShifts<Fmt>::kMinv;
+        const i128 prod = i128(f[a]) * q.minv.mant;
+        const i128 dp = shift_round<Fmt::kRounding>(prod, s);
+        cov_.rounds_out += dp == i128(1) << 31;
+        cov_.rounds_to_min += dp == -(i128(1) << 31) && s > 0 && prod < dp << s;
       }
       const double kind = unit(rng);
       q.flags = kind < 0.15 ? kCoreFixed
@@ -184,6 +211,8 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
   EXPECT_GT(cov_.floored, 1000) << "free particles below an enabled floor";
   EXPECT_GT(cov_.fixed, 1000);
   EXPECT_GT(cov_.left_shift, 100) << "coefficient words whose product shifts left";
+  EXPECT_GT(cov_.rounds_out, 10) << "products whose rounding carries out of the word";
+  EXPECT_GT(cov_.rounds_to_min, 10) << "products just below -2^31 that round up to it";
 }
 
 }  // namespace
