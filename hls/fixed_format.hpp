@@ -98,11 +98,11 @@ inline constexpr int kMaxLanes = 4;
 
 // Pipeline drains of the core (rtl/rheo_core.sv), part of the cycles-per-step formula:
 // TEM: edge read, particle read, 18 TEM stages, write; MPM: gather read, force read,
-// accumulate, particle read, 5 MPM stages, write.
+// accumulate, particle read, 8 MPM stages, write.
 // The module latencies (valid_i to valid_o of rtl/rheo_tem.sv and rtl/rheo_mpm.sv) are
 // defined here so that the core's drains follow when a module's pipeline changes.
 inline constexpr int kTemLatency = 18;
-inline constexpr int kMpmLatency = 5;
+inline constexpr int kMpmLatency = 8;
 inline constexpr int kTemDrainCycles = kTemLatency + 3;
 inline constexpr int kMpmDrainCycles = kMpmLatency + 5;
 

@@ -25,9 +25,9 @@ package rheo_consts_pkg;
   localparam int ShiftGamma = -4;  // extra shift of gamma*m: X -> P
   localparam int ShiftK2t = 7;  // extra shift of k2t*m: X -> F
   localparam int TemLatency = 18;  // rheo_tem: clocks from valid_i to valid_o
-  localparam int MpmLatency = 5;  // rheo_mpm: clocks from valid_i to valid_o
+  localparam int MpmLatency = 8;  // rheo_mpm: clocks from valid_i to valid_o
   localparam int TemDrain = 21;  // clocks from the last TEM issue to its write
-  localparam int MpmDrain = 10;  // clocks from the last gather issue to its write
+  localparam int MpmDrain = 13;  // clocks from the last gather issue to its write
   localparam int ForceAccW = 40;  // per-particle force sum
   localparam int PlateAccW = 48;  // plate force sum
   localparam int StatusTemSat = 1;  // status bit

@@ -6,9 +6,33 @@
 //   plate particle above the plate: z = plate_z, p.z = min(p.z, plate_z - z_start),
 //     plate_f = f.z  (the held particle moves with the plate, as in the reference model)
 //   otherwise below the floor: z = 0, p.z = max(p.z, 0)
-// Rounding is to nearest, results saturate and raise sat_o.
-// Latency: 5 clocks (input register, minv f, p, x, constraints). Mirrors
-// rheo::hls::mpm_particle. Multipliers: 3 (minv f; gravity and dt are folded).
+// Rounding is to nearest, results saturate and raise sat_o. Mirrors rheo::hls::mpm_particle
+// bit for bit, for every coefficient word (left shifts included).
+//
+// Latency: rheo_consts_pkg::MpmLatency = 8 clocks. Every stage holds at most one
+// multiplier or one carry chain of <= 34 bits with a few LUT levels around it:
+//   0 input register
+//   1 partial products of minv f: f[16:0] x mant and f[31:17] x mant (one MULT18X18
+//     each, registered inputs and outputs)
+//   2 product = sum of the partial products (33-bit carry chain), then the coefficient
+//     shift by 0/16/32/48 (a 4:1 multiplexer) into a 49-bit window
+//   3 shift by 0..15 (two 4:1 multiplexer levels) into a 34-bit window y (the result,
+//     its rounding bit and one bit for the rounding's carry) and the saturation test
+//   4 p1 = sat(p + dp): dp = (y >> 1) + y[0] (round half up, the rounding bit as carry-in
+//     of the p + dp carry chain) or the saturated word; plate_z - z_start
+//   5 p  = sat(p1 + g); lim = the clamp bound (plate_z - z_start) << 4, saturated
+//   6 x  = sat(x + round(p >> 4)) (one carry chain, the rounding bit as carry-in);
+//     fixed particles take x0 and p = 0 here; p.z > lim
+//   7 constraints: plate (z > plate_z, 32-bit compare) and floor
+// The coefficient shift works on prod << 28 shifted right by t (t = stored shift field;
+// s = t - 27 is the net right shift of hls::mul_coef with CoefShifts::kMinv), so every
+// shift is a right shift that keeps one bit below the result's LSB for the rounding.
+// dp = (y + 1) >> 1 fits a word for y in [-2^32 - 1, 2^32 - 2]: it saturates when a bit
+// above the window differs from the window's top bit (tested on the bits each shift step
+// drops) or when y is outside that range within the window.
+// Multipliers: 6 MULT18X18 (3 products of 32 x 18 bits, two halves each); gravity and dt
+// are folded. The globals (g, plate_z, the enables) are read at the stage that uses
+// them: the core holds them constant while a pass runs.
 module rheo_mpm #(
   parameter int W = 32,      // state word width (rheo_consts_pkg::Width)
   parameter int CoefW = 24,  // packed coefficient {shift, mantissa}
@@ -35,77 +59,184 @@ module rheo_mpm #(
   output logic [W-1:0]    plate_f_o,   // f.z when the plate holds the particle, else 0
   output logic            sat_o
 );
-  localparam int WideW = rheo_consts_pkg::WideW;
   localparam int FracX = rheo_consts_pkg::FracX;
   localparam int FracP = rheo_consts_pkg::FracP;
+  localparam int MantW = rheo_consts_pkg::CoefMantBits;
+  localparam int ShiftW = rheo_consts_pkg::CoefShiftBits;
   localparam int Last = rheo_consts_pkg::MpmLatency - 1;  // index of the output stage
+  localparam int XShift = FracP - FracX;  // P -> X right shift of x += p
+  // minv f: the low part of f is unsigned (one bit short of a multiplier operand), the
+  // high part signed; both fit a MULT18X18 operand.
+  localparam int LoW = MantW - 1;
+  localparam int HiW = W - LoW;
+  localparam int ProdW = W + MantW;  // the full product f * mant
+  // Net right shift s = t - Lead of the product (t = stored shift field): hls::mul_coef
+  // shifts by shift + kMinv with shift = t - bias. The window works on prod << (Lead + 1):
+  // the extra bit keeps the rounding bit, so every t is a right shift.
+  localparam int Lead = rheo_consts_pkg::CoefShiftBias - rheo_consts_pkg::ShiftMinv;
+  localparam int VecW = ProdW + Lead + 1;
+  localparam int YW = W + 2;           // the window: result, rounding bit, carry room
+  localparam int CoarseW = YW + 15;    // after the coarse shift, the fine shift is < 16
+  localparam int LimW = W + 1 + XShift;  // (plate_z - z_start) << XShift
+  // Saturation tests: neighbour steps above the window, at positions CoarseW .. VecW-1
+  // of the product vector (coarse window) and YW .. CoarseW-1 of the coarse window.
+  localparam int CoarseMaskW = VecW - CoarseW;
+  localparam int FineMaskW = CoarseW - YW;
+  localparam int Groups = (CoarseMaskW + 3) / 4;  // coarse steps ORed in fours at stage 2
 
   if (W != rheo_consts_pkg::Width) begin : g_width_check
     $error("rheo_mpm: W must equal rheo_consts_pkg::Width");
   end
+  if (HiW > 18 || ShiftW != 6 || Lead < 0) begin : g_split_check
+    $error("rheo_mpm: the multiplier split and the two-part shift assume 32-bit words and 6-bit shifts");
+  end
+  if (Last != 7) begin : g_latency_check
+    $error("rheo_mpm: the stages below make MpmLatency = 8");
+  end
 
-  function automatic logic signed [WideW-1:0] wide(input logic signed [W-1:0] v);
-    wide = WideW'(v);
+  // Saturation of a sum one bit wider than a word; the top bit says it clipped.
+  function automatic logic [W:0] sat_sum(input logic signed [W:0] s);
+    if (s[W] != s[W-1]) sat_sum = {1'b1, s[W], {(W-1){~s[W]}}};
+    else sat_sum = {1'b0, s[W-1:0]};
   endfunction
 
+  // A 4:1 multiplexer of coarse-window words, as two levels of 2:1 (LUT logic; a
+  // variable shift would map to wide-multiplexer trees with a LUT per leaf).
+  function automatic logic [CoarseW-1:0] mux4(input logic [1:0] sel,
+      input logic [CoarseW-1:0] a0, input logic [CoarseW-1:0] a1,
+      input logic [CoarseW-1:0] a2, input logic [CoarseW-1:0] a3);
+    mux4 = sel[1] ? (sel[0] ? a3 : a2) : (sel[0] ? a1 : a0);
+  endfunction
+
+  // ---- registers, named by the stage that writes them (arrays: one entry per stage) --
+  // Carried fields, delayed up to the stage that uses them.
   logic v_q [Last+1];
   logic [IdxW-1:0] idx_q [Last+1];
-  logic sat_q [Last+1];
-  logic signed [W-1:0] f_q [Last][3];
-  logic signed [W-1:0] x_q [Last+1][3];
-  logic signed [W-1:0] p_q [Last+1][3];
-  logic signed [W-1:0] x0_q [Last][3];
-  logic signed [W-1:0] dp_q [3];
-  logic [CoefW-1:0] minv_q;
-  logic [1:0] flags_q [Last];
+  logic [1:0] flags_q [Last];              // stages 0..6
+  logic signed [W-1:0] fz_q [Last];        // f.z (the plate force), stages 0..6
+  logic signed [W-1:0] x_q [6][3];         // old position, stages 0..5
+  logic signed [W-1:0] x0_q [6][3];        // home position, stages 0..5
+  logic signed [W-1:0] pold_q [4][3];      // old p, stages 0..3
+  logic [ShiftW-1:0] t_q [3];              // shift field, stages 0..2
+  // stage 0
+  logic signed [W-1:0] f_q [3];
+  logic signed [MantW-1:0] mant_q;
+  // stage 1
+  logic signed [MantW+LoW:0] lo_q [3];    // f[LoW-1:0] * mant
+  logic signed [MantW+HiW-1:0] hi_q [3];  // f[W-1:LoW] * mant
+  logic [CoarseMaskW-1:0] coarse_mask_q;   // bit k: position CoarseW + k is above the window
+  // stage 2
+  logic [CoarseW-1:0] coarse_q [3];
+  logic [Groups-1:0] coarse_steps_q [3];   // a step above the coarse window, by fours
+  logic neg_q [2][3];                      // sign of the product, stages 2..3
+  logic [FineMaskW-1:0] fine_mask_q;       // bit k: coarse position YW + k is above y
+  logic [CoarseW-1:0] ones_mask_q;         // coarse positions of y[W-1:0]
+  // stage 3
+  logic signed [W:0] half_q [3];           // y >> 1
+  logic round_q [3];                       // y[0]
+  logic dp_ok_q [3];                       // dp = half + round fits a word
+  // stages 4..7
+  logic signed [W-1:0] p1_q [3];
+  logic signed [W:0] lim_diff_q;           // stage 4: plate_z - z_start
+  logic signed [W-1:0] p_q [3];
+  logic signed [W-1:0] lim_q [2];          // clamp bound, stages 5..6
+  logic lim_clip_q [2];
+  logic signed [W-1:0] xn_q [3];           // stage 6: x (x0 when fixed)
+  logic signed [W-1:0] pn_q [3];           // stage 6: p (0 when fixed)
+  logic pz_above_lim_q;                    // stage 6: p.z > lim
+  logic signed [W-1:0] xo_q [3];
+  logic signed [W-1:0] po_q [3];
   logic signed [W-1:0] plate_f_q;
-  logic signed [W-1:0] lim_q;   // (plate_z - z_start) in P format
-  logic lim_clip_q;
+  logic [2:0] clip_q [3];                  // saturation per component, stages 4..6
+  logic sat_q [3];                         // sticky saturation of stages < s, s = 5..7
 
-  logic signed [WideW-1:0] dp_w [3], p1_w [3], p_w [3], x_w [3];
-  logic signed [W-1:0] p1 [3];
-  logic signed [W-1:0] x_c [3], p_c [3], plate_c;
-  logic signed [WideW-1:0] lim_w;
-  logic clip1, clip2, clip3, clip4;
+  // ---- combinational parts of the stages ----------------------------------------------
+  logic signed [MantW+LoW:0] lo_c [3];
+  logic signed [MantW+HiW-1:0] hi_c [3];
+  logic signed [ProdW-1:0] prod_c [3];
+  logic [VecW-1:0] vec_c [3];
+  logic [CoarseW-1:0] coarse_opt [3][4];
+  logic [4*Groups-1:0] coarse_step [3];
+  logic [CoarseW-1:0] fine_opt [3][4], fine_mid [3], fine_last [3][4], fine_c [3];
+  logic [FineMaskW-1:0] fine_step [3];
+  logic [YW-1:0] y_c [3];
+  logic y_low_ones [3];
+  logic dp_ok_c [3];
+  logic signed [W:0] dp_word [3];
+  logic dp_carry [3];
+  logic [W+1:0] p1_sum [3];
+  logic signed [LimW-1:0] lim_w;
+  logic [W:0] lim_c;
+  logic [W:0] p1_c [3], p_c [3], x_c [3];
+  logic [W+1:0] x_sum [3];
+  logic [2:0] clip4, clip5, clip6;
+  logic hold, on_floor;
+
   always_comb begin
-    clip1 = 1'b0;
-    clip2 = 1'b0;
-    clip3 = 1'b0;
+    // stage 1: partial products (the low part unsigned: a zero sign bit)
     for (int i = 0; i < 3; i++) begin
-      // stage 1
-      dp_w[i] = rheo_consts_pkg::mul_coef_wide(f_q[0][i], minv_q, rheo_consts_pkg::ShiftMinv);
-      clip1 = clip1 | rheo_consts_pkg::clips(dp_w[i], W);
-      // stage 2
-      p1_w[i] = wide(p_q[1][i]) + wide(dp_q[i]);
-      p1[i] = rheo_consts_pkg::sat_word(p1_w[i]);
-      p_w[i] = wide(p1[i]) + wide(g_i[i*W +: W]);
-      clip2 = clip2 | rheo_consts_pkg::clips(p1_w[i], W) | rheo_consts_pkg::clips(p_w[i], W);
-      // stage 3
-      x_w[i] = wide(x_q[2][i]) + rheo_consts_pkg::round_shift(wide(p_q[2][i]), FracP - FracX);
-      clip3 = clip3 | rheo_consts_pkg::clips(x_w[i], W);
+      lo_c[i] = $signed({1'b0, f_q[i][LoW-1:0]}) * mant_q;
+      hi_c[i] = $signed(f_q[i][W-1:LoW]) * mant_q;
     end
-    lim_w = rheo_consts_pkg::round_shift(wide(plate_z_i) - wide(x_q[2][2]), -(FracP - FracX));
-    clip4 = 1'b0;
-    // stage 4: constraints
+    // stage 2: the product, then the shift by 16 t[5:4]. The result fits the coarse
+    // window only if the bits from CoarseW - 1 + 16 t[5:4] up all equal: a step between
+    // neighbours there fails (steps ORed in fours here, the rest at stage 3).
     for (int i = 0; i < 3; i++) begin
-      x_c[i] = x_q[3][i];
-      p_c[i] = p_q[3][i];
-    end
-    plate_c = '0;
-    if (flags_q[3][0]) begin
-      for (int i = 0; i < 3; i++) begin
-        x_c[i] = x0_q[3][i];
-        p_c[i] = '0;
+      prod_c[i] = {hi_q[i] + (MantW+HiW)'(lo_q[i] >>> LoW), lo_q[i][LoW-1:0]};
+      vec_c[i] = VecW'({prod_c[i], {(Lead+1){1'b0}}});
+      for (int c = 0; c < 4; c++) coarse_opt[i][c] = CoarseW'($signed(vec_c[i]) >>> (16 * c));
+      coarse_step[i] = '0;
+      for (int k = 0; k < CoarseMaskW; k++) begin
+        coarse_step[i][k] = (vec_c[i][CoarseW+k] ^ vec_c[i][CoarseW+k-1]) & coarse_mask_q[k];
       end
-    end else if (flags_q[3][1] && plate_en_i && x_q[3][2] > $signed(plate_z_i)) begin
-      x_c[2] = plate_z_i;
-      if (p_q[3][2] > lim_q) p_c[2] = lim_q;
-      plate_c = f_q[3][2];
-      clip4 = lim_clip_q;
-    end else if (floor_en_i && x_q[3][2] < 0) begin
-      x_c[2] = '0;
-      if (p_q[3][2] < 0) p_c[2] = '0;
     end
+    // stage 3: the shift by t[3:0], its saturation test on the coarse window, and the
+    // range test: y[33:32] = 00 or 11 fits except y = 2^32 - 1 (rounds out of the word),
+    // 10 fits only as y = -2^32 - 1 (rounds to -2^31), 01 never. y[31:0] all ones is
+    // tested on the coarse window with a mask, beside the multiplexers, not after them.
+    for (int i = 0; i < 3; i++) begin
+      for (int c = 0; c < 4; c++) fine_opt[i][c] = CoarseW'($signed(coarse_q[i]) >>> (4 * c));
+      fine_mid[i] = mux4(t_q[2][3:2], fine_opt[i][0], fine_opt[i][1], fine_opt[i][2], fine_opt[i][3]);
+      for (int c = 0; c < 4; c++) fine_last[i][c] = CoarseW'($signed(fine_mid[i]) >>> c);
+      fine_c[i] = mux4(t_q[2][1:0], fine_last[i][0], fine_last[i][1], fine_last[i][2], fine_last[i][3]);
+      y_c[i] = fine_c[i][YW-1:0];
+      for (int k = 0; k < FineMaskW; k++) begin
+        fine_step[i][k] = coarse_q[i][YW+k] ^ coarse_q[i][YW+k-1];
+      end
+      y_low_ones[i] = (coarse_q[i] & ones_mask_q) == ones_mask_q;
+      dp_ok_c[i] = coarse_steps_q[i] == '0 && (fine_step[i] & fine_mask_q) == '0 &&
+                   (y_c[i][W+1] == y_c[i][W] ? !(!y_c[i][W] && y_low_ones[i])
+                                              : y_c[i][W+1] && y_low_ones[i]);
+    end
+    // stage 4: p1 = sat(p + dp), dp = (y >> 1) + y[0] or the saturated word; the
+    // rounding bit enters as the carry out of a dummy low bit (one carry chain)
+    for (int i = 0; i < 3; i++) begin
+      dp_word[i] = dp_ok_q[i] ? half_q[i] : {{2{neg_q[1][i]}}, {(W-1){~neg_q[1][i]}}};
+      dp_carry[i] = dp_ok_q[i] & round_q[i];
+      p1_sum[i] = {(W+1)'(pold_q[3][i]), 1'b1} + {dp_word[i], dp_carry[i]};
+      p1_c[i] = sat_sum(p1_sum[i][W+1:1]);
+      clip4[i] = !dp_ok_q[i] | p1_c[i][W];
+      // stage 5: p = sat(p1 + g)
+      p_c[i] = sat_sum((W+1)'(p1_q[i]) + (W+1)'($signed(g_i[i*W +: W])));
+      clip5[i] = p_c[i][W];
+    end
+    // stage 5: the clamp bound (plate_z - z_start) << XShift, saturated
+    lim_w = LimW'(lim_diff_q) <<< XShift;
+    if (lim_w[LimW-1:W-1] != {(LimW-W+1){lim_w[LimW-1]}}) begin
+      lim_c = {1'b1, lim_w[LimW-1], {(W-1){~lim_w[LimW-1]}}};
+    end else begin
+      lim_c = {1'b0, lim_w[W-1:0]};
+    end
+    // stage 6: x + round(p >> XShift) = x + (p >>> XShift) + p[XShift-1], the rounding
+    // bit as the carry of a dummy low bit
+    for (int i = 0; i < 3; i++) begin
+      x_sum[i] = {(W+1)'(x_q[5][i]), 1'b1} + {(W+1)'(p_q[i]) >>> XShift, p_q[i][XShift-1]};
+      x_c[i] = sat_sum(x_sum[i][W+1:1]);
+      clip6[i] = x_c[i][W];
+    end
+    // stage 7: plate and floor (fixed particles were settled at stage 6)
+    hold = flags_q[6][1] && !flags_q[6][0] && plate_en_i && xn_q[2] > $signed(plate_z_i);
+    on_floor = !flags_q[6][0] && !hold && floor_en_i && xn_q[2][W-1];
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -118,51 +249,97 @@ module rheo_mpm #(
   end
 
   always_ff @(posedge clk_i) begin
+    // carried fields
     idx_q[0] <= idx_i;
-    sat_q[0] <= 1'b0;
-    for (int i = 0; i < 3; i++) begin
-      f_q[0][i] <= f_i[i*W +: W];
-      x_q[0][i] <= x_i[i*W +: W];
-      p_q[0][i] <= p_i[i*W +: W];
-      x0_q[0][i] <= x0_i[i*W +: W];
-    end
-    minv_q <= minv_i;
     flags_q[0] <= flags_i;
-    for (int s = 1; s <= Last; s++) begin
-      idx_q[s] <= idx_q[s-1];
-      sat_q[s] <= sat_q[s-1];
-      x_q[s] <= x_q[s-1];
-      p_q[s] <= p_q[s-1];
-    end
-    for (int s = 1; s < Last; s++) begin
-      f_q[s] <= f_q[s-1];
-      x0_q[s] <= x0_q[s-1];
-      flags_q[s] <= flags_q[s-1];
-    end
-    // stage 1
-    for (int i = 0; i < 3; i++) dp_q[i] <= rheo_consts_pkg::sat_word(dp_w[i]);
-    sat_q[1] <= clip1;
-    // stage 2
-    for (int i = 0; i < 3; i++) p_q[2][i] <= rheo_consts_pkg::sat_word(p_w[i]);
-    sat_q[2] <= sat_q[1] | clip2;
-    // stage 3
-    for (int i = 0; i < 3; i++) x_q[3][i] <= rheo_consts_pkg::sat_word(x_w[i]);
-    sat_q[3] <= sat_q[2] | clip3;
-    lim_q <= rheo_consts_pkg::sat_word(lim_w);
-    lim_clip_q <= rheo_consts_pkg::clips(lim_w, W);
-    // stage 4
+    fz_q[0] <= f_i[2*W +: W];
     for (int i = 0; i < 3; i++) begin
-      x_q[4][i] <= x_c[i];
-      p_q[4][i] <= p_c[i];
+      x_q[0][i] <= x_i[i*W +: W];
+      x0_q[0][i] <= x0_i[i*W +: W];
+      pold_q[0][i] <= p_i[i*W +: W];
     end
-    plate_f_q <= plate_c;
-    sat_q[4] <= sat_q[3] | clip4;
+    t_q[0] <= minv_i[CoefW-1:MantW];
+    for (int s = 1; s <= Last; s++) idx_q[s] <= idx_q[s-1];
+    for (int s = 1; s < Last; s++) begin
+      flags_q[s] <= flags_q[s-1];
+      fz_q[s] <= fz_q[s-1];
+    end
+    for (int s = 1; s < 6; s++) begin
+      for (int i = 0; i < 3; i++) begin
+        x_q[s][i] <= x_q[s-1][i];
+        x0_q[s][i] <= x0_q[s-1][i];
+      end
+    end
+    for (int s = 1; s < 4; s++) begin
+      for (int i = 0; i < 3; i++) pold_q[s][i] <= pold_q[s-1][i];
+    end
+    for (int s = 1; s < 3; s++) t_q[s] <= t_q[s-1];
+    // stage 0
+    for (int i = 0; i < 3; i++) f_q[i] <= f_i[i*W +: W];
+    mant_q <= minv_i[MantW-1:0];
+    // stage 1 (the masks are thermometer codes of the shift field)
+    for (int i = 0; i < 3; i++) begin
+      lo_q[i] <= lo_c[i];
+      hi_q[i] <= hi_c[i];
+    end
+    coarse_mask_q <= {CoarseMaskW{1'b1}} << {t_q[0][5:4], 4'b0};
+    // stage 2
+    for (int i = 0; i < 3; i++) begin
+      coarse_q[i] <= mux4(t_q[1][5:4], coarse_opt[i][0], coarse_opt[i][1], coarse_opt[i][2],
+                          coarse_opt[i][3]);
+      for (int g = 0; g < Groups; g++) coarse_steps_q[i][g] <= |coarse_step[i][4*g +: 4];
+      neg_q[0][i] <= prod_c[i][ProdW-1];
+      neg_q[1][i] <= neg_q[0][i];
+    end
+    fine_mask_q <= {FineMaskW{1'b1}} << t_q[1][3:0];
+    ones_mask_q <= CoarseW'({W{1'b1}}) << t_q[1][3:0];
+    // stage 3
+    for (int i = 0; i < 3; i++) begin
+      half_q[i] <= y_c[i][YW-1:1];
+      round_q[i] <= y_c[i][0];
+      dp_ok_q[i] <= dp_ok_c[i];
+    end
+    // stage 4
+    for (int i = 0; i < 3; i++) p1_q[i] <= p1_c[i][W-1:0];
+    clip_q[0] <= clip4;
+    lim_diff_q <= (W+1)'($signed(plate_z_i)) - (W+1)'(x_q[3][2]);
+    // stage 5
+    for (int i = 0; i < 3; i++) p_q[i] <= p_c[i][W-1:0];
+    clip_q[1] <= clip5;
+    sat_q[0] <= |clip_q[0];
+    lim_q[0] <= lim_c[W-1:0];
+    lim_clip_q[0] <= lim_c[W];
+    // stage 6
+    for (int i = 0; i < 3; i++) begin
+      xn_q[i] <= flags_q[5][0] ? x0_q[5][i] : x_c[i][W-1:0];
+      pn_q[i] <= flags_q[5][0] ? '0 : p_q[i];
+    end
+    pz_above_lim_q <= p_q[2] > lim_q[0];
+    lim_q[1] <= lim_q[0];
+    lim_clip_q[1] <= lim_clip_q[0];
+    clip_q[2] <= clip6;
+    sat_q[1] <= sat_q[0] | (|clip_q[1]);
+    // stage 7
+    for (int i = 0; i < 3; i++) begin
+      xo_q[i] <= xn_q[i];
+      po_q[i] <= pn_q[i];
+    end
+    plate_f_q <= '0;
+    if (hold) begin
+      xo_q[2] <= plate_z_i;
+      if (pz_above_lim_q) po_q[2] <= lim_q[1];
+      plate_f_q <= fz_q[6];
+    end else if (on_floor) begin
+      xo_q[2] <= '0;
+      if (pn_q[2][W-1]) po_q[2] <= '0;
+    end
+    sat_q[2] <= sat_q[1] | (|clip_q[2]) | (hold & lim_clip_q[1]);
   end
 
   assign valid_o = v_q[Last];
   assign idx_o = idx_q[Last];
-  assign x_o = {x_q[Last][2], x_q[Last][1], x_q[Last][0]};
-  assign p_o = {p_q[Last][2], p_q[Last][1], p_q[Last][0]};
+  assign x_o = {xo_q[2], xo_q[1], xo_q[0]};
+  assign p_o = {po_q[2], po_q[1], po_q[0]};
   assign plate_f_o = plate_f_q;
-  assign sat_o = v_q[Last] & sat_q[Last];
+  assign sat_o = v_q[Last] & sat_q[2];
 endmodule

@@ -15,6 +15,7 @@
 
 #include "hls/rheo_kernel.hpp"
 #include "host/driver/core_image.hpp"
+#include "tests/hw/rtl_harness.hpp"
 
 namespace rheo::hls {
 namespace {
@@ -22,11 +23,6 @@ namespace {
 using Fmt = HardwareFormat;
 using S = CoefShifts<Fmt>;
 constexpr int kEdges = 20000;
-
-std::uint32_t pack(const Coef& c) {
-  return (std::uint32_t(c.shift + kCoefShiftBias) << kCoefMantBits) |
-         (std::uint32_t(c.mant) & ((1u << kCoefMantBits) - 1));
-}
 
 struct Expected {
   int idx;
@@ -42,12 +38,7 @@ TEST(RtlTemArm, MatchesTheBitTrueArmTemWordForWordOnRandomInputsAtOneEdgePerCloc
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   auto ctx = std::make_unique<VerilatedContext>();
   auto tem = std::make_unique<Vrheo_tem_arm>(ctx.get());
-  tem->rst_ni = 0;
-  tem->clk_i = 0;
-  tem->eval();
-  tem->clk_i = 1;
-  tem->eval();
-  tem->rst_ni = 1;
+  rtl_test::reset(*tem);
   std::deque<Expected> pending;
   int checked = 0, saturated = 0;
   for (int cycle = 0; cycle < kEdges + 40; ++cycle) {
@@ -91,7 +82,7 @@ TEST(RtlTemArm, MatchesTheBitTrueArmTemWordForWordOnRandomInputsAtOneEdgePerCloc
       // coef_i is 192 bits: eight 24-bit fields packed into 32-bit words.
       for (int w = 0; w < 6; ++w) tem->coef_i[w] = 0;
       for (int c = 0; c < 8; ++c) {
-        const std::uint64_t v = pack(*coefs[c]);
+        const std::uint64_t v = rtl_test::pack_coef(*coefs[c]);
         const int bit = c * 24;
         tem->coef_i[bit / 32] |= std::uint32_t(v << (bit % 32));
         if (bit % 32 > 8) tem->coef_i[bit / 32 + 1] |= std::uint32_t(v >> (32 - bit % 32));
