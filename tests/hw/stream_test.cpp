@@ -65,9 +65,9 @@ TEST(Stream, StatusCountsStepsReadsBackAndClearsOnRequest) {
   VerilatorTransport* raw = nullptr;
   auto dev = rtl_device(1, &raw);
   dev->load(img);
-  // Read-back of what was loaded: the Voigt lengths start at d = L.
+  // Read-back of what was loaded: the Voigt lengths start at d = L (edge slots).
   const std::vector<std::int32_t> d = dev->read_voigt_lengths(0, 4);
-  for (int k = 0; k < 4; ++k) EXPECT_EQ(d[k], img.edges[k].L);
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(d[t], img.edges[t].L);
   const std::int32_t above = std::int32_t(to_x_word(m.height + 0.001, img, "plate"));
   dev->run({above, above, above});
   CoreStatus st = dev->read_status(false);
@@ -113,6 +113,39 @@ TEST_P(SaturationTest, ForcedOverflowIsReportedByTheHostAsAnError) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RtlAndBitTrue, SaturationTest, ::testing::Values(true, false));
+
+// A crafted image whose schedule puts two end particles of one row in the same bank: the
+// crossbar cannot serve the row, and the core must say so instead of computing silently.
+class ScheduleConflictTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(ScheduleConflictTest, TwoEndsInOneBankInOneRowRaiseTheScheduleFlag) {
+  const Scenario s = small_block();
+  const Model m = s.build_model();
+  CoreImage img = make_core_image(m, initial_state(m), s.options.dt, 2);
+  bool crafted = false;
+  for (int r = 0; r < img.edge_rows && !crafted; ++r) {
+    hls::EdgeEntry& a = img.edges[std::size_t(r) * 2];
+    hls::EdgeEntry& b = img.edges[std::size_t(r) * 2 + 1];
+    if (a.valid && b.valid) {
+      b.e_bank = a.e_bank;
+      b.e_local = a.e_local;
+      crafted = true;
+    }
+  }
+  ASSERT_TRUE(crafted);
+  std::unique_ptr<Device> dev =
+      GetParam() ? rtl_device(2) : std::make_unique<Device>(std::make_unique<BitTrueTransport>(2));
+  dev->load(img);
+  const std::int32_t above = std::int32_t(to_x_word(m.height + 0.001, img, "plate"));
+  try {
+    dev->run({above});
+    FAIL() << "schedule conflict not reported";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("edge schedule conflict"), std::string::npos) << e.what();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(RtlAndBitTrue, ScheduleConflictTest, ::testing::Values(true, false));
 
 }  // namespace
 }  // namespace rheo::driver

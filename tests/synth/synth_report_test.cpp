@@ -160,15 +160,13 @@ TEST(PerformanceModel, CycleFormulaMatchesTheDriverForEveryLaneCount) {
   const Scenario scenario = load_scenario("block5");
   const Model model = driver::hardware_model(scenario.build_model());
   const State state = initial_state(model);
-  ProblemSize size{"block5", model.num_particles(), model.num_edges(), {}};
-  size.degree.assign(model.num_particles(), 0);
-  for (const Edge& e : model.edges) ++size.degree[e.s], ++size.degree[e.e];
+  const ProblemSize size = problem_size("block5", model);
   for (int lanes = 1; lanes <= 4; ++lanes) {
     const driver::CoreImage image =
         driver::make_core_image(model, state, scenario.options.dt, lanes);
-    EXPECT_EQ(gather_rows(size, lanes), image.gather_rows) << "lanes " << lanes;
+    EXPECT_EQ(edge_rows(size, lanes), image.edge_rows) << "lanes " << lanes;
     EXPECT_EQ(cycles_per_step(size, lanes),
-              driver::cycles_per_step_formula(model.num_edges(), image.gather_rows, lanes))
+              driver::cycles_per_step_formula(image.edge_rows, model.num_particles(), lanes))
         << "lanes " << lanes;
   }
 }
