@@ -15,6 +15,7 @@
 #include "sim/scenario.hpp"
 #ifdef RHEO_HAVE_RTL
 #include "host/driver/cosim.hpp"
+#include "host/driver/core_image.hpp"
 #endif
 
 namespace rheo::cli {
