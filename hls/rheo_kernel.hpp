@@ -1,7 +1,8 @@
 // Bit-true model of the core's datapath, written as an HLS kernel: static sizes, no
 // allocation or recursion inside the kernel, loop pragmas as Vitis HLS takes them.
 // It mirrors rtl/ operation for operation (formats, rounding points, rsqrt seed table and
-// iterations, accumulation order); tests/hw checks the two for exact equality.
+// iterations; force sums are exact, so their order is free); tests/hw checks the two for
+// exact equality.
 //
 // One step (equations of design.md §3 in folded units, see fixed_format.hpp):
 //   TEM, per edge k (s -> e), one per clock:

@@ -649,9 +649,17 @@ module rheo_core #(
           if (in_fire) begin
             if (region_q == 4'(rheo_consts_pkg::RegionGlobals)) begin
               case (index_q)
-                IdxCountW'(rheo_consts_pkg::GlobalNumParticles):
-                  num_particles_q <= s_axis_tdata[23:0];
-                IdxCountW'(rheo_consts_pkg::GlobalEdgeRows): edge_rows_q <= s_axis_tdata[23:0];
+                // Counts beyond the memories would wrap the addresses: refused.
+                IdxCountW'(rheo_consts_pkg::GlobalNumParticles): begin
+                  if (s_axis_tdata[23:0] > IdxCountW'(MaxParticles))
+                    status_q <= status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+                  else num_particles_q <= s_axis_tdata[23:0];
+                end
+                IdxCountW'(rheo_consts_pkg::GlobalEdgeRows): begin
+                  if (s_axis_tdata[23:0] > IdxCountW'(EDepth))
+                    status_q <= status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+                  else edge_rows_q <= s_axis_tdata[23:0];
+                end
                 IdxCountW'(rheo_consts_pkg::GlobalGravityX): gravity_q[0] <= s_axis_tdata;
                 IdxCountW'(rheo_consts_pkg::GlobalGravityY): gravity_q[1] <= s_axis_tdata;
                 IdxCountW'(rheo_consts_pkg::GlobalGravityZ): gravity_q[2] <= s_axis_tdata;

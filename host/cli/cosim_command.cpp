@@ -14,8 +14,8 @@
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
 #ifdef RHEO_HAVE_RTL
-#include "host/driver/cosim.hpp"
 #include "host/driver/core_image.hpp"
+#include "host/driver/cosim.hpp"
 #endif
 
 namespace rheo::cli {

@@ -43,7 +43,7 @@ constexpr double kReferenceTimingSeconds = 1.0;
 constexpr int kMaxCoreLanes = 4;
 // The core is synthesised at block5 capacity (128 particles, 2,048 edge slots): every
 // memory has at most two registered ports, so Yosys maps them to RAMB16 / LUT RAM and the
-// run takes minutes (one lane: ~8 min here). Larger capacities come from the analytic
+// run takes minutes (one lane: 3-7 min here). Larger capacities come from the analytic
 // block RAM model (estimate_core_ramb16).
 const std::vector<std::string> kCoreCapacityParams = {"MaxParticles=128", "MaxEdges=2048"};
 

@@ -49,11 +49,18 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
   switch (region) {
     case frame::kRegionGlobals:
       switch (index) {
+        // Counts beyond the memories are refused, as the RTL core does.
         case frame::kGlobalNumParticles:
-          m.num_particles = w & 0xFFFFFF;
+          if ((w & 0xFFFFFF) > std::uint32_t(hls::kMaxParticles))
+            m.status |= hls::kStatusBadCommand;
+          else
+            m.num_particles = w & 0xFFFFFF;
           break;
         case frame::kGlobalEdgeRows:
-          m.edge_rows = w & 0xFFFFFF;
+          if ((w & 0xFFFFFF) * std::uint64_t(lanes_) > std::uint64_t(hls::kMaxEdges))
+            m.status |= hls::kStatusBadCommand;
+          else
+            m.edge_rows = w & 0xFFFFFF;
           break;
         case frame::kGlobalGravityX:
           m.globals.g[0] = sword(w);

@@ -147,5 +147,26 @@ TEST_P(ScheduleConflictTest, TwoEndsInOneBankInOneRowRaiseTheScheduleFlag) {
 
 INSTANTIATE_TEST_SUITE_P(RtlAndBitTrue, ScheduleConflictTest, ::testing::Values(true, false));
 
+// Particle or row counts beyond the memories would wrap the addresses: refused.
+class CountRangeTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(CountRangeTest, CountsBeyondTheMemoriesRaiseTheBadCommandFlag) {
+  std::unique_ptr<Device> dev =
+      GetParam() ? rtl_device(1) : std::make_unique<Device>(std::make_unique<BitTrueTransport>(1));
+  for (const auto& [reg, value] :
+       {std::pair{frame::kGlobalNumParticles, std::uint32_t(hls::kMaxParticles) + 1},
+        std::pair{frame::kGlobalEdgeRows, std::uint32_t(hls::kMaxEdges) + 1}}) {
+    dev->transport().send({frame::header(frame::kOpWrite, frame::kRegionGlobals, 1), reg, value});
+    EXPECT_TRUE(dev->read_status(true).flags & hls::kStatusBadCommand) << reg;
+  }
+  // The largest counts the memories hold are accepted.
+  dev->transport().send({frame::header(frame::kOpWrite, frame::kRegionGlobals, 2),
+                         frame::kGlobalNumParticles, std::uint32_t(hls::kMaxParticles),
+                         std::uint32_t(hls::kMaxEdges)});
+  EXPECT_EQ(dev->read_status(true).flags, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(RtlAndBitTrue, CountRangeTest, ::testing::Values(true, false));
+
 }  // namespace
 }  // namespace rheo::driver
