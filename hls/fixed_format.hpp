@@ -78,6 +78,9 @@ enum StatusBit : std::uint32_t {
   kStatusDegenerateEdge = 1u << 2,  // an edge of zero length (no direction)
   kStatusPlateSaturated = 1u << 3,  // the plate force word saturated
   kStatusBadCommand = 1u << 4,      // unknown opcode/region or index out of range
+  // A row of the edge schedule has two end particles in one bank (or an end bank beyond
+  // the lanes): the crossbar cannot serve it, forces of that row are not trustworthy.
+  kStatusScheduleConflict = 1u << 5,
 };
 
 // Material table entry flags.
@@ -91,20 +94,21 @@ enum CoreParticleFlag : std::uint32_t { kCoreFixed = 1u << 0, kCorePlate = 1u <<
 
 // Static sizes of the core's memories (the HLS kernel's arrays and the RTL defaults).
 inline constexpr int kMaxParticles = 4096;
-inline constexpr int kMaxEdges = 65536;
-inline constexpr int kMaxGather = 131072 + 8192;  // incidences + padding for lanes
+inline constexpr int kMaxEdges = 65536;  // edge slots (rows * lanes, bubbles included)
 inline constexpr int kMaxMaterials = 16;
 inline constexpr int kMaxLanes = 4;
 
-// Pipeline drains of the core (rtl/rheo_core.sv), part of the cycles-per-step formula:
-// TEM: edge read, particle read, 18 TEM stages, write; MPM: gather read, force read,
-// accumulate, particle read, 8 MPM stages, write.
+// Pipeline drains of the core (rtl/rheo_core.sv), part of the cycles-per-step formula,
+// counted from the clock after the last issue until the last write has landed:
+// edge pass: particle read, TEM stages, accumulator read, sum, accumulator write;
+// MPM pass: particle and sum read, sum register, MPM stages (the last output's plate
+// force is taken and its write lands in the last clock).
 // The module latencies (valid_i to valid_o of rtl/rheo_tem.sv and rtl/rheo_mpm.sv) are
 // defined here so that the core's drains follow when a module's pipeline changes.
 inline constexpr int kTemLatency = 18;
 inline constexpr int kMpmLatency = 8;
-inline constexpr int kTemDrainCycles = kTemLatency + 3;
-inline constexpr int kMpmDrainCycles = kMpmLatency + 5;
+inline constexpr int kTemDrainCycles = kTemLatency + 4;
+inline constexpr int kMpmDrainCycles = kMpmLatency + 2;
 
 // Accumulator widths: particle force sums and the plate force keep guard bits and
 // saturate only when they are narrowed to a word (so the sums do not depend on the order

@@ -1,7 +1,8 @@
 // Bit-true model of the core's datapath, written as an HLS kernel: static sizes, no
 // allocation or recursion inside the kernel, loop pragmas as Vitis HLS takes them.
 // It mirrors rtl/ operation for operation (formats, rounding points, rsqrt seed table and
-// iterations, accumulation order); tests/hw checks the two for exact equality.
+// iterations; force sums are exact, so their order is free); tests/hw checks the two for
+// exact equality.
 //
 // One step (equations of design.md §3 in folded units, see fixed_format.hpp):
 //   TEM, per edge k (s -> e), one per clock:
@@ -15,8 +16,8 @@
 //   name), per edge state m (the arm spring's extension, X format):
 //     dm = ldot - gamma * m                  (gamma = k2 dt / c3)
 //     T += k2t * m;  m <- m + dm             (k2t = k2 in force units per length unit)
-//   MPM, per particle i, one per clock, after its incident edges are gathered in the
-//   host-given order (the gather table):
+//   MPM, per particle i, one per clock, after the edge pass has summed its edge forces
+//   (exact wide sums, saturated once when narrowed):
 //     f = sum of +F_k (i = s) and -F_k (i = e)
 //     p += minv * f + g;  x += p
 //     fixed: x = x0, p = 0
@@ -256,86 +257,97 @@ inline std::int64_t mpm_particle(MpmParticle& q, const std::int64_t f[3], const 
 
 // ---- the core's memories and one step ------------------------------------------------
 
-struct GatherEntry {
-  std::uint32_t edge = 0;      // edge whose force is added
-  std::uint32_t particle = 0;  // particle being summed
-  bool valid = false;          // false: padding or a particle without edges
-  bool negate = false;         // particle is the edge's end (force -F)
-  bool last = false;           // last entry of this particle: run the MPM
-};
-
+// Particles are partitioned over the lanes: particle i lives in bank i % lanes at local
+// address i / lanes. Edge slot t belongs to lane t % lanes and schedule row t / lanes; the
+// slot's start particle lives in the lane's own bank, its end particle in bank e_bank.
+// Empty slots (valid = false) are bubbles of the schedule.
 struct EdgeEntry {
-  std::uint32_t s = 0, e = 0, material = 0;
+  bool valid = false;
+  std::uint32_t s_local = 0;  // start particle: local address in the lane's bank
+  std::uint32_t e_bank = 0;   // end particle: bank and local address
+  std::uint32_t e_local = 0;
+  std::uint32_t material = 0;
   std::int64_t L = 0, d = 0;
   std::int64_t m = 0;  // Maxwell-arm extension (used by a MaxwellArm core only)
 };
 
 struct CoreMemory {
-  MpmParticle particles[kMaxParticles];
-  EdgeEntry edges[kMaxEdges];
-  std::int64_t edge_force[kMaxEdges][3];
+  MpmParticle particles[kMaxParticles];  // by particle index i = local * lanes + bank
+  EdgeEntry edges[kMaxEdges];            // by slot t = row * lanes + lane
   MaterialCoefs materials[kMaxMaterials];
-  GatherEntry gather[kMaxGather];
-  std::uint32_t num_particles = 0, num_edges = 0;
-  std::uint32_t gather_length = 0;  // entries in the gather table (lanes * rows)
+  // Per particle, the sums of the forces of the edges where it is the start and where it
+  // is the end (the RTL's two accumulator memories per bank); exact, cleared by the MPM.
+  std::int64_t force_start[kMaxParticles][3] = {};
+  std::int64_t force_end[kMaxParticles][3] = {};
+  std::uint32_t num_particles = 0;
+  std::uint32_t edge_rows = 0;  // rows of the edge schedule (edge_rows * lanes slots)
   std::uint32_t lanes = 1;
   MpmGlobals globals;
   std::uint32_t status = 0;
   std::uint32_t step_count = 0;
 };
 
-// One time step; returns the plate force word (F format). Edge and gather loops are the
-// TEM and MPM passes of the core; their order does not change any result (forces are
-// summed per particle in gather order, the plate force in a wide accumulator).
+// One time step; returns the plate force word (F format). The edge and particle loops are
+// the core's edge pass and MPM pass. Every TEM reads the particle state of the previous
+// step (the MPM pass starts after the edge pass), and the force sums are exact (wide,
+// saturated only when narrowed for the MPM), so neither the slot order nor the lane
+// assignment changes any bit.
 template <class Fmt, bool MaxwellArm = false>
 inline std::int64_t core_step(CoreMemory& mem) {
   constexpr int W = Fmt::kWidth;
-tem_pass:
-  for (std::uint32_t k = 0; k < mem.num_edges; ++k) {
+  const std::uint32_t lanes = mem.lanes;
+edge_pass:
+  for (std::uint32_t row = 0; row < mem.edge_rows; ++row) {
 #pragma HLS PIPELINE II = 1
 #pragma HLS LOOP_TRIPCOUNT max = 65536
-    EdgeEntry& edge = mem.edges[k];
-    const MpmParticle& s = mem.particles[edge.s];
-    const MpmParticle& e = mem.particles[edge.e];
-    TemIn in;
-    for (int i = 0; i < 3; ++i) {
-      in.xs[i] = s.x[i];
-      in.xe[i] = e.x[i];
-      in.ps[i] = s.p[i];
-      in.pe[i] = e.p[i];
+    std::uint32_t end_banks_used = 0;
+    for (std::uint32_t lane = 0; lane < lanes; ++lane) {
+#pragma HLS UNROLL
+      const std::uint32_t slot = row * lanes + lane;
+      if (slot >= std::uint32_t(kMaxEdges)) break;
+      EdgeEntry& edge = mem.edges[slot];
+      if (!edge.valid) continue;
+      // The crossbar serves one end particle per bank and row (the host's schedule).
+      if (edge.e_bank >= lanes || (end_banks_used & (1u << edge.e_bank)))
+        mem.status |= kStatusScheduleConflict;
+      end_banks_used |= 1u << (edge.e_bank & 31u);
+      const std::uint32_t si = edge.s_local * lanes + lane;
+      const std::uint32_t ei = edge.e_local * lanes + edge.e_bank;
+      if (si >= std::uint32_t(kMaxParticles) || ei >= std::uint32_t(kMaxParticles)) continue;
+      const MpmParticle& s = mem.particles[si];
+      const MpmParticle& e = mem.particles[ei];
+      TemIn in;
+      for (int i = 0; i < 3; ++i) {
+        in.xs[i] = s.x[i];
+        in.xe[i] = e.x[i];
+        in.ps[i] = s.p[i];
+        in.pe[i] = e.p[i];
+      }
+      in.d = edge.d;
+      in.L = edge.L;
+      in.m = edge.m;
+      const TemOut out = tem_edge<Fmt, MaxwellArm>(in, mem.materials[edge.material], &mem.status);
+      for (int i = 0; i < 3; ++i) {
+        mem.force_start[si][i] += out.f[i];
+        mem.force_end[ei][i] -= out.f[i];
+      }
+      edge.d = out.d;
+      if constexpr (MaxwellArm) edge.m = out.m;
     }
-    in.d = edge.d;
-    in.L = edge.L;
-    in.m = edge.m;
-    const TemOut out = tem_edge<Fmt, MaxwellArm>(in, mem.materials[edge.material], &mem.status);
-    for (int i = 0; i < 3; ++i) mem.edge_force[k][i] = out.f[i];
-    edge.d = out.d;
-    if constexpr (MaxwellArm) edge.m = out.m;
   }
-  // One accumulator per lane: the gather table interleaves the lanes' entries
-  // (entry t belongs to lane t % lanes), each lane's entries grouped by particle.
-  i128 acc[kMaxLanes][3] = {};
   i128 plate_acc = 0;
 mpm_pass:
-  for (std::uint32_t t = 0; t < mem.gather_length; ++t) {
+  for (std::uint32_t i = 0; i < mem.num_particles && i < std::uint32_t(kMaxParticles); ++i) {
 #pragma HLS PIPELINE II = 1
-#pragma HLS LOOP_TRIPCOUNT max = 139264
-    const GatherEntry& g = mem.gather[t];
-    i128* lane_acc = acc[t % mem.lanes];
-    if (g.valid) {
-      for (int i = 0; i < 3; ++i) {
-        const std::int64_t f = mem.edge_force[g.edge][i];
-        lane_acc[i] += g.negate ? -i128(f) : i128(f);
-      }
+#pragma HLS LOOP_TRIPCOUNT max = 4096
+    std::int64_t f[3];
+    for (int a = 0; a < 3; ++a) {
+      f[a] = saturate(i128(mem.force_start[i][a]) + mem.force_end[i][a], W, &mem.status,
+                      kStatusMpmSaturated);
+      mem.force_start[i][a] = 0;
+      mem.force_end[i][a] = 0;
     }
-    if (g.last) {
-      std::int64_t f[3];
-      for (int i = 0; i < 3; ++i) {
-        f[i] = saturate(lane_acc[i], W, &mem.status, kStatusMpmSaturated);
-        lane_acc[i] = 0;
-      }
-      plate_acc += mpm_particle<Fmt>(mem.particles[g.particle], f, mem.globals, &mem.status);
-    }
+    plate_acc += mpm_particle<Fmt>(mem.particles[i], f, mem.globals, &mem.status);
   }
   ++mem.step_count;
   return saturate(plate_acc, W, &mem.status, kStatusPlateSaturated);

@@ -26,8 +26,8 @@ package rheo_consts_pkg;
   localparam int ShiftK2t = 7;  // extra shift of k2t*m: X -> F
   localparam int TemLatency = 18;  // rheo_tem: clocks from valid_i to valid_o
   localparam int MpmLatency = 8;  // rheo_mpm: clocks from valid_i to valid_o
-  localparam int TemDrain = 21;  // clocks from the last TEM issue to its write
-  localparam int MpmDrain = 13;  // clocks from the last gather issue to its write
+  localparam int TemDrain = 22;  // clocks after the last edge row until its sums land
+  localparam int MpmDrain = 10;  // clocks after the last particle row until written
   localparam int ForceAccW = 40;  // per-particle force sum
   localparam int PlateAccW = 48;  // plate force sum
   localparam int StatusTemSat = 1;  // status bit
@@ -35,6 +35,7 @@ package rheo_consts_pkg;
   localparam int StatusDegenerate = 4;  // status bit
   localparam int StatusPlateSat = 8;  // status bit
   localparam int StatusBadCommand = 16;  // status bit
+  localparam int StatusScheduleConflict = 32;  // status bit
   localparam int MatClampLow = 1;  // material flag
   localparam int MatClampHigh = 2;  // material flag
   localparam int ParticleFixed = 1;  // particle flag
@@ -48,12 +49,22 @@ package rheo_consts_pkg;
   localparam int RegionParticleStatic = 2;  // region
   localparam int RegionEdge = 3;  // region
   localparam int RegionMaterial = 4;  // region
-  localparam int RegionGather = 5;  // region
-  localparam int RegionEdgeLength = 6;  // region
-  localparam int RegionMaterialArm = 7;  // region
-  localparam int RegionEdgeArm = 8;  // region
-  localparam int NumRegions = 9;  // regions
-  localparam int NumBaseRegions = 7;  // regions of a core without the Maxwell arm
+  localparam int RegionEdgeLength = 5;  // region
+  localparam int RegionMaterialArm = 6;  // region
+  localparam int RegionEdgeArm = 7;  // region
+  localparam int NumRegions = 8;  // regions
+  localparam int GlobalNumParticles = 0;  // global register
+  localparam int GlobalEdgeRows = 1;  // global register
+  localparam int GlobalGravityX = 2;  // global register
+  localparam int GlobalGravityY = 3;  // global register
+  localparam int GlobalGravityZ = 4;  // global register
+  localparam int GlobalControl = 5;  // global register
+  localparam int EdgeLocalBits = 12;  // edge word 0: local particle address bits
+  localparam int EdgeEndLocalShift = 12;  // edge word 0: end local address
+  localparam int EdgeEndBankShift = 24;  // edge word 0: end bank
+  localparam int EdgeBankBits = 4;  // edge word 0: end bank bits
+  localparam int EdgeValidBit = 31;  // edge word 0: valid (0: bubble)
+  localparam int NumBaseRegions = 6;  // regions of a core without the Maxwell arm
   localparam int StatusWords = 4;  // words of a status response
 
   // Words per entry of each region.
@@ -65,9 +76,8 @@ package rheo_consts_pkg;
       4'd3: words_per_entry = 3'd4;
       4'd4: words_per_entry = 3'd7;
       4'd5: words_per_entry = 3'd1;
-      4'd6: words_per_entry = 3'd1;
-      4'd7: words_per_entry = 3'd2;
-      4'd8: words_per_entry = 3'd1;
+      4'd6: words_per_entry = 3'd2;
+      4'd7: words_per_entry = 3'd1;
       default: words_per_entry = 3'd0;
     endcase
   endfunction

@@ -15,6 +15,7 @@
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
 #ifdef RHEO_HAVE_RTL
+#include "host/driver/core_image.hpp"
 #include "host/driver/cosim.hpp"
 #endif
 
@@ -76,15 +77,15 @@ void run(const CosimArgs& args) {
   j["max_force_ref_N"] = r.max_force_ref_N;
   j["cycles_per_step_measured"] = r.cycles_per_step_measured;
   j["cycles_per_step_formula"] = r.cycles_per_step_formula;
-  j["cycles_per_step_formula_text"] = "max(ceil(E/lanes),1) + " +
-                                      std::to_string(hls::kTemDrainCycles) + " + G + " +
-                                      std::to_string(hls::kMpmDrainCycles) +
-                                      ", G = max over lanes of sum max(degree,1)";
+  j["cycles_per_step_formula_text"] =
+      "max(R,1) + " + std::to_string(driver::kTemDrainCycles) + " + ceil(N/lanes) + " +
+      std::to_string(driver::kMpmDrainCycles) + ", R = rows of the edge schedule";
   j["sim_cycles"] = r.sim_cycles;
   j["sim_cycles_per_s"] = r.sim_cycles_per_s;
   j["particles"] = r.particles;
   j["edges"] = r.edges;
-  j["gather_rows"] = r.gather_rows;
+  j["edge_rows"] = r.edge_rows;
+  j["edge_bubbles"] = long(r.edge_rows) * r.lanes - r.edges;
   j["length_unit_m"] = r.length_unit_m;
   j["force_unit_N"] = r.force_unit_N;
   j["dt_s"] = r.dt_s;
@@ -123,8 +124,8 @@ void register_cosim(CLI::App& app) {
       "compare with the double reference model and write DIR/cosim.json.");
   cmd->add_option("--scenario", args->scenario, "built-in scenario name or JSON file")->required();
   cmd->add_option("--steps", args->steps, "number of steps (default: the scenario's duration)");
-  cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of the core (1 or 2)")
-      ->check(CLI::Range(1, 2));
+  cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of the core (1, 2 or 4)")
+      ->check(CLI::IsMember({1, 2, 4}));
   cmd->add_option("--trace", args->trace,
                   "write an FST waveform to this file (open with scripts/rheo_core.gtkw)");
   cmd->add_option("--trace-steps", args->trace_steps,

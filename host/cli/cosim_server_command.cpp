@@ -88,7 +88,7 @@ void register_cosim_server(CLI::App& app) {
   cmd->add_option("--socket", args->socket, "Path of the Unix-domain socket to listen on")
       ->required();
   cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of the core")
-      ->check(CLI::IsMember({1, 2}));
+      ->check(CLI::IsMember({1, 2, 4}));
   cmd->add_option("--core", args->core,
                   "Core behind the socket: rtl (Verilator, default), bittrue (the bit-true "
                   "model, for link tests without Verilator) or null (answers with zeros "

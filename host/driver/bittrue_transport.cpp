@@ -49,15 +49,18 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
   switch (region) {
     case frame::kRegionGlobals:
       switch (index) {
+        // Counts beyond the memories are refused, as the RTL core does.
         case frame::kGlobalNumParticles:
-          m.num_particles = w & 0xFFFFFF;
+          if ((w & 0xFFFFFF) > std::uint32_t(hls::kMaxParticles))
+            m.status |= hls::kStatusBadCommand;
+          else
+            m.num_particles = w & 0xFFFFFF;
           break;
-        case frame::kGlobalNumEdges:
-          m.num_edges = w & 0xFFFFFF;
-          break;
-        case frame::kGlobalGatherRows:
-          gather_rows_ = w & 0xFFFFFF;
-          m.gather_length = gather_rows_ * lanes_;
+        case frame::kGlobalEdgeRows:
+          if ((w & 0xFFFFFF) * std::uint64_t(lanes_) > std::uint64_t(hls::kMaxEdges))
+            m.status |= hls::kStatusBadCommand;
+          else
+            m.edge_rows = w & 0xFFFFFF;
           break;
         case frame::kGlobalGravityX:
           m.globals.g[0] = sword(w);
@@ -96,8 +99,11 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
       if (index >= std::uint32_t(hls::kMaxEdges)) return;
       hls::EdgeEntry& e = m.edges[index];
       if (field == 0) {
-        e.s = w & (hls::kMaxParticles - 1);
-        e.e = (w >> 16) & (hls::kMaxParticles - 1);
+        constexpr std::uint32_t kLocalMask = (1u << frame::kEdgeLocalBits) - 1;
+        e.valid = w & frame::kEdgeValid;
+        e.s_local = w & kLocalMask;
+        e.e_local = (w >> frame::kEdgeEndLocalShift) & kLocalMask;
+        e.e_bank = (w >> frame::kEdgeEndBankShift) & ((1u << frame::kEdgeBankBits) - 1);
       } else if (field == 1) {
         e.L = sword(w);
       } else if (field == 2) {
@@ -115,16 +121,6 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
         *coefs[field] = unpack_coef(w);
       else
         mc.flags = w & 3u;
-      return;
-    }
-    case frame::kRegionGather: {
-      if (index >= std::uint32_t(hls::kMaxGather)) return;
-      hls::GatherEntry& g = m.gather[index];
-      g.edge = w & 0xFFFF;
-      g.particle = (w >> frame::kGatherParticleShift) & (hls::kMaxParticles - 1);
-      g.valid = w & frame::kGatherValid;
-      g.negate = w & frame::kGatherNegate;
-      g.last = w & frame::kGatherLast;
       return;
     }
     case frame::kRegionEdgeLength:
@@ -203,7 +199,7 @@ void BitTrueTransport::process() {
           maxwell_arm_ ? hls::core_step<Fmt, true>(m) : hls::core_step<Fmt>(m);
       out_.push_back(static_cast<std::uint32_t>(plate_force));
       cycles_ += static_cast<std::uint32_t>(
-          cycles_per_step_formula(int(m.num_edges), int(gather_rows_), lanes_));
+          cycles_per_step_formula(int(m.edge_rows), int(m.num_particles), lanes_));
       if (count > 1) in_.push_front(frame::header(frame::kOpRun, frame::kRegionGlobals, count - 1));
     } else if (op == frame::kOpStatus) {
       in_.pop_front();

@@ -33,7 +33,6 @@ class BitTrueTransport : public Transport {
   std::unique_ptr<hls::CoreMemory> mem_;
   std::deque<std::uint32_t> in_;
   std::deque<std::uint32_t> out_;
-  std::uint32_t gather_rows_ = 0;
   std::uint32_t cycles_ = 0;
 };
 

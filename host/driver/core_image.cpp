@@ -37,9 +37,78 @@ std::int64_t round_to_word(double scaled, int width, const std::string& what) {
 
 }  // namespace
 
-long cycles_per_step_formula(int num_edges, int gather_rows, int lanes) {
-  const long tem_rows = std::max<long>((num_edges + lanes - 1) / lanes, 1);
-  return tem_rows + kTemDrainCycles + gather_rows + kMpmDrainCycles;
+long cycles_per_step_formula(int edge_rows, int num_particles, int lanes) {
+  const long particle_rows = (long(num_particles) + lanes - 1) / lanes;
+  return std::max<long>(edge_rows, 1) + kTemDrainCycles + particle_rows + kMpmDrainCycles;
+}
+
+EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int lanes) {
+  if (lanes < 1 || lanes > hls::kMaxLanes) {
+    throw Error("schedule_edges: lanes = " + std::to_string(lanes) + ": expected 1.." +
+                std::to_string(hls::kMaxLanes));
+  }
+  const int ne = static_cast<int>(ends.size());
+  EdgeSchedule sch;
+  sch.slot.assign(ne, -1);
+  sch.flipped.assign(ne, false);
+  // Orientation: an edge between banks a != b either starts in lane a and ends in bank b
+  // or the other way round; take the choice that keeps the larger of the two counts low.
+  std::vector<long> starts(lanes, 0), ends_in(lanes, 0);
+  std::vector<std::vector<std::vector<int>>> bucket(
+      lanes, std::vector<std::vector<int>>(lanes));  // [lane][end bank] -> edges
+  for (int k = 0; k < ne; ++k) {
+    const int a = ends[k].first % lanes, b = ends[k].second % lanes;
+    bool flip = false;
+    if (a != b) {
+      const long keep = std::max(starts[a], ends_in[b]);
+      const long swap = std::max(starts[b], ends_in[a]);
+      flip = swap < keep || (swap == keep && starts[b] + ends_in[a] < starts[a] + ends_in[b]);
+    }
+    const int lane = flip ? b : a, end_bank = flip ? a : b;
+    sch.flipped[k] = flip;
+    ++starts[lane];
+    ++ends_in[end_bank];
+    bucket[lane][end_bank].push_back(k);
+  }
+  // Rows: each row is a matching of lanes to end banks. Taking, in every row, a matching
+  // that covers every lane and bank of the largest remaining count lowers that count by
+  // one per row (such a matching always exists in a bipartite graph), so the schedule
+  // needs exactly max(starts, ends_in) rows. The matchings are searched over the lane ->
+  // bank permutations (at most 4! = 24).
+  std::vector<int> perm(lanes);
+  int row = 0;
+  for (;;) {
+    long top = 0;
+    for (int j = 0; j < lanes; ++j) top = std::max({top, starts[j], ends_in[j]});
+    if (top == 0) break;
+    for (int j = 0; j < lanes; ++j) perm[j] = j;
+    std::vector<int> best;
+    long best_cover = -1, best_weight = -1;
+    do {
+      long cover = 0, weight = 0;
+      for (int j = 0; j < lanes; ++j) {
+        if (bucket[j][perm[j]].empty()) continue;
+        cover += (starts[j] == top) + (ends_in[perm[j]] == top);
+        weight += starts[j] + ends_in[perm[j]];
+      }
+      if (cover > best_cover || (cover == best_cover && weight > best_weight)) {
+        best_cover = cover;
+        best_weight = weight;
+        best = perm;
+      }
+    } while (std::next_permutation(perm.begin(), perm.end()));
+    for (int j = 0; j < lanes; ++j) {
+      std::vector<int>& list = bucket[j][best[j]];
+      if (list.empty()) continue;
+      sch.slot[list.back()] = row * lanes + j;
+      list.pop_back();
+      --starts[j];
+      --ends_in[best[j]];
+    }
+    ++row;
+  }
+  sch.rows = row;
+  return sch;
 }
 
 hls::Coef encode_coef(double value, const std::string& what, int extra_shift) {
@@ -233,66 +302,51 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     if (model.flags[i] == kPlate) q.flags |= hls::kCorePlate;
   }
 
-  // ---- edges and incidence lists ----
-  std::vector<std::vector<std::pair<int, bool>>> incident(np);
-  img.edges.resize(ne);
+  // ---- edges: scheduled into slots (lane, row) ----
+  std::vector<int> degree(np, 0);
+  std::vector<std::pair<int, int>> ends(ne);
+  for (int k = 0; k < ne; ++k) {
+    const Edge& e = model.edges[k];
+    if (e.s < 0 || e.s >= np || e.e < 0 || e.e >= np || e.s == e.e) {
+      throw Error("edge " + std::to_string(k) + ": particle index out of range or s == e");
+    }
+    ends[k] = {e.s, e.e};
+    ++degree[e.s];
+    ++degree[e.e];
+  }
+  for (int i = 0; i < np; ++i) {
+    if (degree[i] > kMaxDegree) {
+      throw Error("particle " + std::to_string(i) + " has " + std::to_string(degree[i]) +
+                  " edges: the force accumulator allows at most " + std::to_string(kMaxDegree));
+    }
+  }
+  const EdgeSchedule sch = schedule_edges(ends, lanes);
+  if (static_cast<long>(sch.rows) * lanes > hls::kMaxEdges) {
+    throw Error("edge schedule of " + std::to_string(sch.rows) + " rows x " +
+                std::to_string(lanes) + " lanes exceeds the core's " +
+                std::to_string(hls::kMaxEdges) + " edge slots");
+  }
+  img.edge_rows = sch.rows;
+  img.edges.assign(std::size_t(sch.rows) * lanes, hls::EdgeEntry{});
+  img.edge_slot = sch.slot;
   for (int k = 0; k < ne; ++k) {
     const Edge& e = model.edges[k];
     const std::string where = "edge " + std::to_string(k);
-    if (e.s < 0 || e.s >= np || e.e < 0 || e.e >= np || e.s == e.e) {
-      throw Error(where + ": particle index out of range or s == e");
-    }
-    hls::EdgeEntry& ee = img.edges[k];
-    ee.s = e.s;
-    ee.e = e.e;
+    const int start = sch.flipped[k] ? e.e : e.s;
+    const int end = sch.flipped[k] ? e.s : e.e;
+    hls::EdgeEntry& ee = img.edges[sch.slot[k]];
+    ee.valid = true;
+    ee.s_local = start / lanes;
+    ee.e_bank = end % lanes;
+    ee.e_local = end / lanes;
     ee.material = e.material;
     ee.L = to_x_word(e.L, img, where + " L");
     ee.d = to_x_word(state.d[k], img, where + " d");
     if (maxwell_arm && k < static_cast<int>(state.m.size()))
       ee.m = to_x_word(state.m[k], img, where + " m (Maxwell-arm extension)");
-    incident[e.s].push_back({k, false});
-    incident[e.e].push_back({k, true});
   }
   img.num_particles = np;
   img.num_edges = ne;
-
-  // ---- gather table: lane j takes particles i with i % lanes == j ----
-  std::vector<std::vector<hls::GatherEntry>> lane_lists(lanes);
-  for (int i = 0; i < np; ++i) {
-    auto& list = lane_lists[i % lanes];
-    if (static_cast<int>(incident[i].size()) > kMaxDegree) {
-      throw Error("particle " + std::to_string(i) + " has " + std::to_string(incident[i].size()) +
-                  " edges: the force accumulator allows at most " + std::to_string(kMaxDegree));
-    }
-    if (incident[i].empty()) {
-      hls::GatherEntry g;
-      g.particle = i;
-      g.last = true;
-      list.push_back(g);
-      continue;
-    }
-    for (std::size_t n = 0; n < incident[i].size(); ++n) {
-      hls::GatherEntry g;
-      g.edge = incident[i][n].first;
-      g.negate = incident[i][n].second;
-      g.particle = i;
-      g.valid = true;
-      g.last = (n + 1 == incident[i].size());
-      list.push_back(g);
-    }
-  }
-  std::size_t rows = 0;
-  for (const auto& l : lane_lists) rows = std::max(rows, l.size());
-  if (rows * lanes > static_cast<std::size_t>(hls::kMaxGather)) {
-    throw Error("gather table of " + std::to_string(rows * lanes) + " entries exceeds the core's " +
-                std::to_string(hls::kMaxGather));
-  }
-  img.gather_rows = static_cast<int>(rows);
-  img.gather.assign(rows * lanes, hls::GatherEntry{});
-  for (int j = 0; j < lanes; ++j) {
-    for (std::size_t t = 0; t < lane_lists[j].size(); ++t)
-      img.gather[t * lanes + j] = lane_lists[j][t];
-  }
   return img;
 }
 
@@ -325,8 +379,7 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
   std::vector<std::uint32_t> out;
   std::vector<std::uint32_t> w;
   w = {std::uint32_t(img.num_particles),
-       std::uint32_t(img.num_edges),
-       std::uint32_t(img.gather_rows),
+       std::uint32_t(img.edge_rows),
        std::uint32_t(img.globals.g[0]),
        std::uint32_t(img.globals.g[1]),
        std::uint32_t(img.globals.g[2]),
@@ -348,7 +401,9 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
   write_command(out, frame::kRegionParticleStatic, 0, w);
   w.clear();
   for (const auto& e : img.edges) {
-    w.push_back(e.s | (e.e << 16));
+    w.push_back(e.valid ? (e.s_local | (e.e_local << frame::kEdgeEndLocalShift) |
+                           (e.e_bank << frame::kEdgeEndBankShift) | frame::kEdgeValid)
+                        : 0u);
     w.push_back(std::uint32_t(e.L));
     w.push_back(std::uint32_t(e.d));
     w.push_back(e.material);
@@ -361,13 +416,6 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
     w.push_back(m.flags);
   }
   write_command(out, frame::kRegionMaterial, 0, w);
-  w.clear();
-  for (const auto& g : img.gather) {
-    w.push_back(g.edge | (g.particle << frame::kGatherParticleShift) |
-                (g.valid ? frame::kGatherValid : 0u) | (g.negate ? frame::kGatherNegate : 0u) |
-                (g.last ? frame::kGatherLast : 0u));
-  }
-  write_command(out, frame::kRegionGather, 0, w);
   if (img.maxwell_arm) {
     w.clear();
     for (const auto& m : img.materials) {
@@ -384,14 +432,12 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
 
 void load_memory(const CoreImage& img, hls::CoreMemory& mem) {
   mem.num_particles = img.num_particles;
-  mem.num_edges = img.num_edges;
-  mem.gather_length = static_cast<std::uint32_t>(img.gather.size());
+  mem.edge_rows = img.edge_rows;
   mem.lanes = img.lanes;
   mem.globals = img.globals;
   for (int i = 0; i < img.num_particles; ++i) mem.particles[i] = img.particles[i];
-  for (int k = 0; k < img.num_edges; ++k) mem.edges[k] = img.edges[k];
+  for (std::size_t t = 0; t < img.edges.size(); ++t) mem.edges[t] = img.edges[t];
   for (std::size_t m = 0; m < img.materials.size(); ++m) mem.materials[m] = img.materials[m];
-  for (std::size_t t = 0; t < img.gather.size(); ++t) mem.gather[t] = img.gather[t];
 }
 
 }  // namespace rheo::driver

@@ -1,6 +1,6 @@
 // Conversion of a rheo::Model (SI units) into the core's fixed-point image: unit choice,
 // host-side constant folding (design.md §4), coefficient encoding with range checks, the
-// gather table for a lane count, and the conversions of plate heights, forces and state
+// edge schedule for a lane count, and the conversions of plate heights, forces and state
 // words back and forth. Throws rheo::Error naming the particle/edge/material and the
 // limit when a value does not fit.
 #pragma once
@@ -36,12 +36,12 @@ struct CoreImage {
   Units units;
   int lanes = 1;
   int num_particles = 0;
-  int num_edges = 0;
-  int gather_rows = 0;  // G: rows of the gather table
-  std::vector<hls::MpmParticle> particles;
-  std::vector<hls::EdgeEntry> edges;
+  int num_edges = 0;                        // edges of the model
+  int edge_rows = 0;                        // R: rows of the edge schedule
+  std::vector<hls::MpmParticle> particles;  // by particle index
+  std::vector<hls::EdgeEntry> edges;        // edge_rows * lanes slots, row-major
+  std::vector<int> edge_slot;               // per model edge: its slot in `edges`
   std::vector<hls::MaterialCoefs> materials;
-  std::vector<hls::GatherEntry> gather;  // gather_rows * lanes entries, row-major
   hls::MpmGlobals globals;
   // The image is for a core with the parallel Maxwell arm (RTL MaxwellArm = 1): the
   // materials' gamma and k2t and the edges' m are part of it (frames of the arm regions).
@@ -51,14 +51,27 @@ struct CoreImage {
 };
 
 // Compute clocks per step of the RTL core (rtl/rheo_core.sv header):
-//   max(ceil(E / lanes), 1) + TemDrain + G + MpmDrain.
+//   max(R, 1) + TemDrain + ceil(N / lanes) + MpmDrain,  R = rows of the edge schedule.
 inline constexpr int kTemDrainCycles = hls::kTemDrainCycles;
 inline constexpr int kMpmDrainCycles = hls::kMpmDrainCycles;
-long cycles_per_step_formula(int num_edges, int gather_rows, int lanes);
+long cycles_per_step_formula(int edge_rows, int num_particles, int lanes);
+
+// The edge schedule for `lanes` lanes (particle i in bank i % lanes). Each edge goes to
+// the lane owning one of its particles, which becomes its start (flipped: the model's end
+// is the start); every row holds at most one edge per lane and its end particles lie in
+// pairwise different banks. Rows = max over lanes and banks of the edges a lane starts or
+// a bank ends (bipartite edge colouring), orientations balance these counts.
+struct EdgeSchedule {
+  int rows = 0;
+  std::vector<int> slot;      // per edge: row * lanes + lane
+  std::vector<bool> flipped;  // per edge: start and end swapped
+};
+EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int lanes);
 
 // Builds the image of `model` in `state` for time step dt. Throws rheo::Error on values
 // out of range (positions beyond the X range, coefficients beyond the 18-bit mantissa,
 // too many particles/edges/materials for the core's memories, degree >= 256).
+// The image's edges are the slots of schedule_edges (bubbles are invalid slots).
 // maxwell_arm: the target core has the parallel Maxwell arm; the model's arm (k2, c3) is
 // then kept (gamma = k2 dt / c3, k2t = k2 Lu / Fu) instead of dropped.
 CoreImage make_core_image(const Model& model, const State& state, double dt, int lanes,

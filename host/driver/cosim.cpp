@@ -42,14 +42,14 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   CosimResult res;
   res.particles = image.num_particles;
   res.edges = image.num_edges;
-  res.gather_rows = image.gather_rows;
+  res.edge_rows = image.edge_rows;
   res.lanes = opt.lanes;
   res.length_unit_m = image.units.length_m;
   res.force_unit_N = image.units.force_N;
   res.dt_s = dt;
   res.dropped_features = image.dropped_features;
   res.cycles_per_step_formula =
-      cycles_per_step_formula(image.num_edges, image.gather_rows, opt.lanes);
+      cycles_per_step_formula(image.edge_rows, image.num_particles, opt.lanes);
 
   VerilatorOptions vo;
   vo.lanes = opt.lanes;

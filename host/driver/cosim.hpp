@@ -48,7 +48,7 @@ struct CosimResult {
   long cycles_per_step_formula = 0;
   double sim_cycles_per_s = 0.0;
   std::uint64_t sim_cycles = 0;
-  int particles = 0, edges = 0, gather_rows = 0, lanes = 0;
+  int particles = 0, edges = 0, edge_rows = 0, lanes = 0;
   double length_unit_m = 0.0, force_unit_N = 0.0, dt_s = 0.0;
   std::vector<std::string> dropped_features;
   std::vector<double> force_fixed_N, force_ref_N;  // per step

@@ -13,6 +13,7 @@ std::string describe_status_flags(std::uint32_t flags) {
       {hls::kStatusDegenerateEdge, "zero-length edge"},
       {hls::kStatusPlateSaturated, "plate force saturated"},
       {hls::kStatusBadCommand, "bad command"},
+      {hls::kStatusScheduleConflict, "edge schedule conflict"},
   };
   std::string out;
   for (const auto& [bit, name] : kNames) {

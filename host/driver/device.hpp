@@ -34,6 +34,7 @@ class Device {
   std::vector<std::int32_t> run(const std::vector<std::int32_t>& plate_words);
   // x[3], p[3] of `count` particles from `first`.
   std::vector<std::int32_t> read_particle_state(int first, int count);
+  // d of `count` edge slots from slot `first` (CoreImage::edge_slot maps model edges).
   std::vector<std::int32_t> read_voigt_lengths(int first, int count);
   CoreStatus read_status(bool clear);
 

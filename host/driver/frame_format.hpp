@@ -26,29 +26,27 @@ enum Region : std::uint32_t {
   kRegionGlobals = 0,         // 1 word per entry: see GlobalRegister
   kRegionParticleState = 1,   // x[3], p[3]
   kRegionParticleStatic = 2,  // x0[3], minv (packed coefficient), flags
-  kRegionEdge = 3,            // s | e << 16, L, d, material
+  kRegionEdge = 3,            // edge slot: packed ends (see kEdgeValid), L, d, material
   kRegionMaterial = 4,        // alpha, beta, kt, ct, a_min, a_max (packed), flags
-  kRegionGather = 5,          // packed gather entry
-  kRegionEdgeLength = 6,      // d only (read back the Voigt lengths)
+  kRegionEdgeLength = 5,      // d only (read back the Voigt lengths), per edge slot
   // Parallel Maxwell arm (cores built with MaxwellArm = 1 only; others flag a bad command):
-  kRegionMaterialArm = 7,  // gamma, k2t (packed): the arm's decay and force coefficients
-  kRegionEdgeArm = 8,      // m: the arm spring's extension (X format), written and read back
-  kNumRegions = 9,
+  kRegionMaterialArm = 6,  // gamma, k2t (packed): the arm's decay and force coefficients
+  kRegionEdgeArm = 7,      // m: the arm spring's extension (X format), per edge slot
+  kNumRegions = 8,
 };
 
-inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 1, 2, 1};
+inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1};
 // Regions a core without the Maxwell arm accepts.
 inline constexpr std::uint32_t kNumBaseRegions = kRegionMaterialArm;
 
 enum GlobalRegister : std::uint32_t {
   kGlobalNumParticles = 0,
-  kGlobalNumEdges = 1,
-  kGlobalGatherRows = 2,  // rows of the gather table (each row has one entry per lane)
-  kGlobalGravityX = 3,    // P format, displacement per step^2
-  kGlobalGravityY = 4,
-  kGlobalGravityZ = 5,
-  kGlobalControl = 6,  // bit 0 floor enable, bit 1 plate enable
-  kNumGlobals = 7,
+  kGlobalEdgeRows = 1,  // rows of the edge schedule (each row has one slot per lane)
+  kGlobalGravityX = 2,  // P format, displacement per step^2
+  kGlobalGravityY = 3,
+  kGlobalGravityZ = 4,
+  kGlobalControl = 5,  // bit 0 floor enable, bit 1 plate enable
+  kNumGlobals = 6,
 };
 
 inline constexpr std::uint32_t kControlFloor = 1u << 0;
@@ -56,11 +54,17 @@ inline constexpr std::uint32_t kControlPlate = 1u << 1;
 inline constexpr std::uint32_t kStatusWords = 4;
 inline constexpr std::uint32_t kStatusClear = 1u << 0;
 
-// Packed gather entry: edge [15:0], particle [27:16], valid [28], negate [29], last [30].
-inline constexpr int kGatherParticleShift = 16;
-inline constexpr std::uint32_t kGatherValid = 1u << 28;
-inline constexpr std::uint32_t kGatherNegate = 1u << 29;
-inline constexpr std::uint32_t kGatherLast = 1u << 30;
+// Particles and edges are partitioned over the lanes: particle i lives in bank i % lanes
+// at local address i / lanes, edge slot t (region index) belongs to lane t % lanes, row
+// t / lanes. A slot's first word packs its two particles: the start particle's local
+// address [11:0] (its bank is the slot's lane), the end particle's local address [23:12]
+// and bank [27:24], and valid [31] (0: a bubble, nothing is computed in that slot).
+inline constexpr int kEdgeLocalBits = 12;
+inline constexpr int kEdgeEndLocalShift = 12;
+inline constexpr int kEdgeEndBankShift = 24;
+inline constexpr int kEdgeBankBits = 4;
+inline constexpr int kEdgeValidBit = 31;
+inline constexpr std::uint32_t kEdgeValid = 1u << kEdgeValidBit;
 
 // Packed coefficient: mantissa [17:0] (two's complement), shift [23:18].
 inline constexpr int kCoefShiftPos = 18;

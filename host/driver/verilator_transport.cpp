@@ -9,6 +9,7 @@
 #include "Vrheo_core_arm_l1.h"
 #include "Vrheo_core_l1.h"
 #include "Vrheo_core_l2.h"
+#include "Vrheo_core_l4.h"
 #pragma GCC diagnostic pop
 
 #include <chrono>
@@ -144,8 +145,10 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
     impl_ = std::make_unique<Harness<Vrheo_core_l1>>(o);
   else if (o.lanes == 2)
     impl_ = std::make_unique<Harness<Vrheo_core_l2>>(o);
+  else if (o.lanes == 4)
+    impl_ = std::make_unique<Harness<Vrheo_core_l4>>(o);
   else
-    throw Error("RTL core: lanes = " + std::to_string(o.lanes) + ": built for 1 and 2");
+    throw Error("RTL core: lanes = " + std::to_string(o.lanes) + ": built for 1, 2 and 4");
 }
 VerilatorTransport::~VerilatorTransport() = default;
 void VerilatorTransport::send(const std::vector<std::uint32_t>& w) { impl_->send(w); }

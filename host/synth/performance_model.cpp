@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 
+#include "host/driver/core_image.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::synth {
@@ -35,20 +36,24 @@ int lanes_that_fit(const Resources& per_lane, const Resources& shared, const Dev
   return static_cast<int>(lanes);
 }
 
-long long gather_rows(const ProblemSize& p, int lanes) {
-  if (lanes < 1) throw Error("gather_rows: lanes must be >= 1, got " + std::to_string(lanes));
-  if (static_cast<int>(p.degree.size()) != p.particles) {
-    throw Error("gather_rows: " + p.name + " has " + std::to_string(p.particles) +
-                " particles but " + std::to_string(p.degree.size()) + " degrees");
+ProblemSize problem_size(const std::string& name, const Model& model) {
+  ProblemSize p{name, model.num_particles(), model.num_edges(), {}};
+  for (const Edge& e : model.edges) p.ends.push_back({e.s, e.e});
+  return p;
+}
+
+long long edge_rows(const ProblemSize& p, int lanes) {
+  if (static_cast<int>(p.ends.size()) != p.edges) {
+    throw Error("edge_rows: " + p.name + " has " + std::to_string(p.edges) + " edges but " +
+                std::to_string(p.ends.size()) + " end pairs");
   }
-  std::vector<long long> rows(lanes, 0);
-  for (int i = 0; i < p.particles; ++i) rows[i % lanes] += std::max(p.degree[i], 1);
-  return *std::max_element(rows.begin(), rows.end());
+  return driver::schedule_edges(p.ends, lanes).rows;
 }
 
 long long cycles_per_step(const ProblemSize& p, int lanes, const CycleModel& model) {
-  const long long tem_rows = std::max<long long>(ceil_div(p.edges, lanes), 1);
-  return tem_rows + model.tem_drain + gather_rows(p, lanes) + model.mpm_drain;
+  if (lanes < 1) throw Error("cycles_per_step: lanes must be >= 1, got " + std::to_string(lanes));
+  return std::max<long long>(edge_rows(p, lanes), 1) + model.tem_drain +
+         ceil_div(p.particles, lanes) + model.mpm_drain;
 }
 
 int ramb16_for_memory(long long depth, int width) {
@@ -63,19 +68,22 @@ int ramb16_for_memory(long long depth, int width) {
 }
 
 int estimate_core_ramb16(const Capacity& c, int lanes) {
-  const int index_bits_p = 12, index_bits_m = 4, word = 32, coef = 24;
-  // Particle x and p: read by the TEM's two ends and the MPM in every lane.
-  const int particle_state = 2 * ramb16_for_memory(c.particles, 3 * word) * 3 * lanes;
-  // Home position, 1/m coefficient and flags: read by the MPM of every lane.
-  const int particle_const = ramb16_for_memory(c.particles, 3 * word + coef + 2) * lanes;
-  // Edge ends, material, L and d: read by the TEM of every lane.
-  const int edge_state =
-      ramb16_for_memory(c.edges, 2 * index_bits_p + index_bits_m + 2 * word) * lanes;
-  // Edge forces: written by the TEM, read by the gather of every lane.
-  const int edge_force = ramb16_for_memory(c.edges, 3 * word) * lanes;
-  // Gather table: one 31-bit entry per lane and row.
-  const int gather = ramb16_for_memory(c.gather, 31);
-  return particle_state + particle_const + edge_state + edge_force + gather;
+  const int word = 32, coef = 24, flags = 2, material = 4, bank = 4;
+  const int sum = 3 * (word + hls::kForceAccGuardBits);
+  const long long bank_depth = ceil_div(c.particles, lanes);
+  const long long lane_depth = ceil_div(c.edges, lanes);
+  int local_bits = 1;
+  while ((1LL << local_bits) < bank_depth) ++local_bits;
+  // Per bank: x and p (one memory per word: the host writes single words), x0, 1/m,
+  // flags, the start and end force sums.
+  const int per_bank = 9 * ramb16_for_memory(bank_depth, word) +
+                       ramb16_for_memory(bank_depth, coef) + ramb16_for_memory(bank_depth, flags) +
+                       2 * ramb16_for_memory(bank_depth, sum);
+  // Per lane: slot record {valid, end bank, end local, start local}, L, d, material.
+  const int per_lane = ramb16_for_memory(lane_depth, 1 + bank + 2 * local_bits) +
+                       2 * ramb16_for_memory(lane_depth, word) +
+                       ramb16_for_memory(lane_depth, material);
+  return lanes * (per_bank + per_lane);
 }
 
 }  // namespace rheo::synth

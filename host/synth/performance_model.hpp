@@ -3,10 +3,12 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hls/fixed_format.hpp"
 #include "host/synth/synth_report.hpp"
+#include "sim/model.hpp"
 
 namespace rheo::synth {
 
@@ -34,9 +36,9 @@ int lanes_that_fit(const Resources& per_lane, const Resources& shared, const Dev
 
 // Cycles of one core step, the formula of rtl/rheo_core.sv (counted there in status word
 // 2 and checked against Verilator by the hardware tests):
-//   cycles = max(ceil(E / L), 1) + TemDrain + G + MpmDrain
-//   G = max over lanes j of the sum, over the lane's particles (i % L == j, the driver's
-//       assignment), of max(degree_i, 1)
+//   cycles = max(R, 1) + TemDrain + ceil(N / L) + MpmDrain
+//   R = rows of the driver's edge schedule (driver::schedule_edges: at most one edge per
+//       lane and row, end particles of a row in different banks; about ceil(E / L))
 struct CycleModel {
   // The drains follow the module latencies, defined once in hls/fixed_format.hpp.
   int tem_drain = hls::kTemDrainCycles;  // rtl/rheo_core.sv TemDrain
@@ -47,17 +49,20 @@ struct ProblemSize {
   std::string name;
   int particles = 0;
   int edges = 0;
-  std::vector<int> degree;  // edges incident to each particle
+  std::vector<std::pair<int, int>> ends;  // start and end particle of each edge
 };
-long long gather_rows(const ProblemSize& p, int lanes);
+ProblemSize problem_size(const std::string& name, const Model& model);
+long long edge_rows(const ProblemSize& p, int lanes);
 long long cycles_per_step(const ProblemSize& p, int lanes, const CycleModel& model = {});
 
 // Block RAM of the core's state memories at a capacity, from the RAMB16 aspect ratios
-// (16K x 1 ... 512 x 36): each memory takes the cheapest ratio, and arrays read by several
-// ports per lane are replicated (one read port per copy), as rtl/rheo_core.sv describes.
+// (16K x 1 ... 512 x 36): each memory takes the cheapest ratio. Every memory of
+// rtl/rheo_core.sv has at most two ports, so nothing is replicated: per bank (particles /
+// L deep) x and p (6 words), x0 (3 words), 1/m, flags and the two force sums (3 x 40
+// bits each); per lane (edge slots / L deep) the slot record (ends), L, d and material.
 // An analytic estimate for capacities too large to synthesise on this machine.
 struct Capacity {
-  int particles = 4096, edges = 65536, gather = 139264;
+  int particles = 4096, edges = 65536;
 };
 int ramb16_for_memory(long long depth, int width);
 int estimate_core_ramb16(const Capacity& c, int lanes);

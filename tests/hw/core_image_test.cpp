@@ -1,11 +1,13 @@
 // Host-side conversion of a model to the core's fixed-point image: coefficient encoding,
-// range checks with messages naming the culprit, gather table layout and cycle formula.
+// range checks with messages naming the culprit, edge schedule and cycle formula.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "host/driver/core_image.hpp"
 #include "sim/error.hpp"
+#include "sim/scenario.hpp"
 
 namespace rheo::driver {
 namespace {
@@ -46,23 +48,68 @@ TEST(CoreImage, CoefficientTooLargeIsRefusedWithItsName) {
   }
 }
 
-TEST(CoreImage, GatherTableListsEveryIncidenceOncePerLane) {
+TEST(CoreImage, EdgeSlotsHoldEveryEdgeOnceInALaneOwningItsStart) {
   const Model m = two_particle_model();
   for (int lanes : {1, 2}) {
     const CoreImage img = make_core_image(m, initial_state(m), 1e-4, lanes);
-    // One lane walks both particles; two lanes take one particle each.
-    const int rows = lanes == 1 ? 2 : 1;
-    EXPECT_EQ(img.gather_rows, rows);
-    ASSERT_EQ(img.gather.size(), std::size_t(rows * lanes));
-    int incidences = 0, lasts = 0;
-    for (const auto& g : img.gather) {
-      incidences += g.valid;
-      lasts += g.last;
+    EXPECT_EQ(img.edge_rows, 1);
+    ASSERT_EQ(img.edges.size(), std::size_t(lanes));
+    ASSERT_EQ(img.edge_slot.size(), 1u);
+    const hls::EdgeEntry& e = img.edges[img.edge_slot[0]];
+    EXPECT_TRUE(e.valid);
+    // Particle i is in bank i % lanes at i / lanes; the slot's lane is the start's bank.
+    const int lane = img.edge_slot[0] % lanes;
+    const int start = int(e.s_local) * lanes + lane;
+    const int end = int(e.e_local) * lanes + int(e.e_bank);
+    EXPECT_TRUE((start == 0 && end == 1) || (start == 1 && end == 0)) << lanes;
+    int valid = 0;
+    for (const auto& slot : img.edges) valid += slot.valid;
+    EXPECT_EQ(valid, 1);
+    // Rows, drains, particle rows (ceil(2 / lanes)).
+    EXPECT_EQ(cycles_per_step_formula(img.edge_rows, img.num_particles, lanes),
+              1 + kTemDrainCycles + (2 + lanes - 1) / lanes + kMpmDrainCycles);
+  }
+}
+
+// Every row: at most one edge per lane (one slot each), end particles in pairwise
+// different banks; every edge exactly once; rows = the larger of the most edges a lane
+// starts and the most edges a bank ends (the bipartite edge-colouring bound).
+TEST(CoreImage, ScheduleRowsHaveDistinctEndBanksAndMeetTheLowerBound) {
+  const Model m = load_scenario("block5").build_model();
+  const int ne = m.num_edges();
+  std::vector<std::pair<int, int>> ends;
+  for (const Edge& e : m.edges) ends.push_back({e.s, e.e});
+  for (int lanes = 1; lanes <= hls::kMaxLanes; ++lanes) {
+    const EdgeSchedule sch = schedule_edges(ends, lanes);
+    std::vector<int> owner(std::size_t(sch.rows) * lanes, -1);
+    std::vector<long> starts(lanes, 0), ends_in(lanes, 0);
+    for (int k = 0; k < ne; ++k) {
+      const int t = sch.slot[k];
+      ASSERT_GE(t, 0);
+      ASSERT_LT(t, sch.rows * lanes);
+      ASSERT_EQ(owner[t], -1) << "slot used twice";
+      owner[t] = k;
+      const int start = sch.flipped[k] ? ends[k].second : ends[k].first;
+      const int end = sch.flipped[k] ? ends[k].first : ends[k].second;
+      EXPECT_EQ(start % lanes, t % lanes);
+      ++starts[start % lanes];
+      ++ends_in[end % lanes];
     }
-    EXPECT_EQ(incidences, 2) << lanes;
-    EXPECT_EQ(lasts, 2) << lanes;
-    EXPECT_EQ(cycles_per_step_formula(img.num_edges, img.gather_rows, lanes),
-              1 + kTemDrainCycles + rows + kMpmDrainCycles);
+    for (int r = 0; r < sch.rows; ++r) {
+      std::vector<bool> used(lanes, false);
+      for (int j = 0; j < lanes; ++j) {
+        const int k = owner[std::size_t(r) * lanes + j];
+        if (k < 0) continue;
+        const int end = sch.flipped[k] ? ends[k].first : ends[k].second;
+        EXPECT_FALSE(used[end % lanes]) << "row " << r << ", lanes " << lanes;
+        used[end % lanes] = true;
+      }
+    }
+    const long bound = std::max(*std::max_element(starts.begin(), starts.end()),
+                                *std::max_element(ends_in.begin(), ends_in.end()));
+    EXPECT_EQ(sch.rows, bound) << lanes;
+    // Orientations balance the lanes: within 2 % of E / lanes for block5.
+    EXPECT_LE(sch.rows, (ne + lanes - 1) / lanes * 1.02) << lanes;
   }
 }
 

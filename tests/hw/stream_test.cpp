@@ -1,5 +1,5 @@
 // The core's stream ports under random idle cycles on s_axis and random back-pressure on
-// m_axis, for 1 and 2 lanes: results stay bit-identical to the bit-true model; commands
+// m_axis, for 1, 2 and 4 lanes: results stay bit-identical to the bit-true model; commands
 // with no data, read-back and status behave as the frame format says; an overflow raised
 // by the core reaches the host as rheo::Error.
 #include <gtest/gtest.h>
@@ -46,7 +46,7 @@ TEST_P(StreamTest, RandomIdleAndBackPressureOnBothSidesKeepResultsBitExact) {
   EXPECT_DOUBLE_EQ(r.cycles_per_step_measured, double(r.cycles_per_step_formula));
 }
 
-INSTANTIATE_TEST_SUITE_P(Lanes, StreamTest, ::testing::Values(1, 2));
+INSTANTIATE_TEST_SUITE_P(Lanes, StreamTest, ::testing::Values(1, 2, 4));
 
 std::unique_ptr<Device> rtl_device(int lanes, VerilatorTransport** raw = nullptr) {
   VerilatorOptions vo;
@@ -65,9 +65,9 @@ TEST(Stream, StatusCountsStepsReadsBackAndClearsOnRequest) {
   VerilatorTransport* raw = nullptr;
   auto dev = rtl_device(1, &raw);
   dev->load(img);
-  // Read-back of what was loaded: the Voigt lengths start at d = L.
+  // Read-back of what was loaded: the Voigt lengths start at d = L (edge slots).
   const std::vector<std::int32_t> d = dev->read_voigt_lengths(0, 4);
-  for (int k = 0; k < 4; ++k) EXPECT_EQ(d[k], img.edges[k].L);
+  for (int t = 0; t < 4; ++t) EXPECT_EQ(d[t], img.edges[t].L);
   const std::int32_t above = std::int32_t(to_x_word(m.height + 0.001, img, "plate"));
   dev->run({above, above, above});
   CoreStatus st = dev->read_status(false);
@@ -113,6 +113,60 @@ TEST_P(SaturationTest, ForcedOverflowIsReportedByTheHostAsAnError) {
 }
 
 INSTANTIATE_TEST_SUITE_P(RtlAndBitTrue, SaturationTest, ::testing::Values(true, false));
+
+// A crafted image whose schedule puts two end particles of one row in the same bank: the
+// crossbar cannot serve the row, and the core must say so instead of computing silently.
+class ScheduleConflictTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(ScheduleConflictTest, TwoEndsInOneBankInOneRowRaiseTheScheduleFlag) {
+  const Scenario s = small_block();
+  const Model m = s.build_model();
+  CoreImage img = make_core_image(m, initial_state(m), s.options.dt, 2);
+  bool crafted = false;
+  for (int r = 0; r < img.edge_rows && !crafted; ++r) {
+    hls::EdgeEntry& a = img.edges[std::size_t(r) * 2];
+    hls::EdgeEntry& b = img.edges[std::size_t(r) * 2 + 1];
+    if (a.valid && b.valid) {
+      b.e_bank = a.e_bank;
+      b.e_local = a.e_local;
+      crafted = true;
+    }
+  }
+  ASSERT_TRUE(crafted);
+  std::unique_ptr<Device> dev =
+      GetParam() ? rtl_device(2) : std::make_unique<Device>(std::make_unique<BitTrueTransport>(2));
+  dev->load(img);
+  const std::int32_t above = std::int32_t(to_x_word(m.height + 0.001, img, "plate"));
+  try {
+    dev->run({above});
+    FAIL() << "schedule conflict not reported";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("edge schedule conflict"), std::string::npos) << e.what();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(RtlAndBitTrue, ScheduleConflictTest, ::testing::Values(true, false));
+
+// Particle or row counts beyond the memories would wrap the addresses: refused.
+class CountRangeTest : public ::testing::TestWithParam<bool> {};
+
+TEST_P(CountRangeTest, CountsBeyondTheMemoriesRaiseTheBadCommandFlag) {
+  std::unique_ptr<Device> dev =
+      GetParam() ? rtl_device(1) : std::make_unique<Device>(std::make_unique<BitTrueTransport>(1));
+  for (const auto& [reg, value] :
+       {std::pair{frame::kGlobalNumParticles, std::uint32_t(hls::kMaxParticles) + 1},
+        std::pair{frame::kGlobalEdgeRows, std::uint32_t(hls::kMaxEdges) + 1}}) {
+    dev->transport().send({frame::header(frame::kOpWrite, frame::kRegionGlobals, 1), reg, value});
+    EXPECT_TRUE(dev->read_status(true).flags & hls::kStatusBadCommand) << reg;
+  }
+  // The largest counts the memories hold are accepted.
+  dev->transport().send({frame::header(frame::kOpWrite, frame::kRegionGlobals, 2),
+                         frame::kGlobalNumParticles, std::uint32_t(hls::kMaxParticles),
+                         std::uint32_t(hls::kMaxEdges)});
+  EXPECT_EQ(dev->read_status(true).flags, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(RtlAndBitTrue, CountRangeTest, ::testing::Values(true, false));
 
 }  // namespace
 }  // namespace rheo::driver

@@ -156,19 +156,28 @@ TEST(PerformanceModel, BlockRamCountPicksTheCheapestAspectRatio) {
   EXPECT_EQ(ramb16_for_memory(100, 96), 3);    // 512 x 36 blocks side by side
 }
 
+// The core's memories at block5 capacity, one lane: per bank 6 x/p + 3 x0 words, 1/m and
+// flags (one RAMB16 each at 128 x 32) and two 128 x 120 force sums (4 each); per lane the
+// 2048-slot record (19 bits: 3), L and d (4 each) and material (1). Yosys 0.23 maps the
+// same RTL to 28 RAMB16 + LUT RAM (docs/synthesis.md section 4).
+TEST(PerformanceModel, CoreBlockRamAtBlock5CapacityCountsEveryMemoryOnce) {
+  EXPECT_EQ(estimate_core_ramb16({128, 2048}, 1), 31);
+  // Two lanes halve every depth (nothing is copied): per bank the same 19 blocks at 64
+  // deep, per lane the 1024-slot record (17 bits: 1), L and d (2 each), material (1).
+  EXPECT_EQ(estimate_core_ramb16({128, 2048}, 2), 2 * (19 + 6));
+}
+
 TEST(PerformanceModel, CycleFormulaMatchesTheDriverForEveryLaneCount) {
   const Scenario scenario = load_scenario("block5");
   const Model model = driver::hardware_model(scenario.build_model());
   const State state = initial_state(model);
-  ProblemSize size{"block5", model.num_particles(), model.num_edges(), {}};
-  size.degree.assign(model.num_particles(), 0);
-  for (const Edge& e : model.edges) ++size.degree[e.s], ++size.degree[e.e];
+  const ProblemSize size = problem_size("block5", model);
   for (int lanes = 1; lanes <= 4; ++lanes) {
     const driver::CoreImage image =
         driver::make_core_image(model, state, scenario.options.dt, lanes);
-    EXPECT_EQ(gather_rows(size, lanes), image.gather_rows) << "lanes " << lanes;
+    EXPECT_EQ(edge_rows(size, lanes), image.edge_rows) << "lanes " << lanes;
     EXPECT_EQ(cycles_per_step(size, lanes),
-              driver::cycles_per_step_formula(model.num_edges(), image.gather_rows, lanes))
+              driver::cycles_per_step_formula(image.edge_rows, model.num_particles(), lanes))
         << "lanes " << lanes;
   }
 }
