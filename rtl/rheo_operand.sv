@@ -1,0 +1,116 @@
+// Building blocks of the TEM's narrow-operand datapath (rheo::hls::normalize,
+// rheo::hls::shift_round + saturate of hls/rheo_kernel.hpp). Each is pipelined so that a
+// stage holds one short carry chain or a few LUT levels.
+
+// Block normalisation: N words of InW bits with one shared exponent to B-bit operands,
+// value = mant_o * 2^shift_o. shift_o = max(0, n - (B-1)) with every word in [-2^n, 2^n);
+// the mantissas are rounded to nearest, and the one case that rounds up to 2^(B-1) is held
+// at 2^(B-1) - 1.
+// Latency 3: leading-bit detection, shift, rounding. Ports are packed, word i at
+// [i*InW +: InW] (mantissa i at [i*B +: B]).
+module rheo_normalize #(
+  parameter int N = 3,
+  parameter int InW = 32,
+  parameter int B = 18,
+  parameter int ShiftW = 6
+) (
+  input  logic                 clk_i,
+  input  logic [N*InW-1:0]     v_i,
+  output logic [N*B-1:0]       mant_o,
+  output logic [ShiftW-1:0]    shift_o
+);
+  logic signed [InW-1:0] v [N];
+  always_comb begin
+    for (int i = 0; i < N; i++) v[i] = v_i[i*InW +: InW];
+  end
+  // ---- stage 1: n = leading-bit count of the OR of the words XOR their signs ----
+  logic [InW-1:0] bits;
+  logic [ShiftW-1:0] shift_w;
+  always_comb begin
+    bits = '0;
+    for (int i = 0; i < N; i++) bits = bits | (v[i] ^ {InW{v[i][InW-1]}});
+    shift_w = '0;
+    for (int b = B - 1; b < InW; b++) begin
+      if (bits[b]) shift_w = ShiftW'(b - (B - 1) + 1);
+    end
+  end
+  logic signed [InW-1:0] v1_q [N];
+  logic [ShiftW-1:0] shift1_q, shift2_q;
+  // ---- stage 2: t = floor(v 2^-(shift-1)): keeps the rounding bit; B+1 bits hold it ----
+  logic signed [B:0] t_q [N];
+  always_ff @(posedge clk_i) begin
+    shift1_q <= shift_w;
+    shift2_q <= shift1_q;
+    shift_o <= shift2_q;
+    for (int i = 0; i < N; i++) begin
+      v1_q[i] <= v[i];
+      t_q[i] <= (B+1)'(($signed({v1_q[i], 1'b0})) >>> shift1_q);
+    end
+  end
+  // ---- stage 3: mant = (t + 1) >> 1 = round(v 2^-shift), held below 2^(B-1) ----
+  localparam logic signed [B+1:0] MantMax = (B+2)'((64'sd1 <<< (B - 1)) - 64'sd1);
+  logic signed [B+1:0] r_w [N];
+  always_comb begin
+    for (int i = 0; i < N; i++) r_w[i] = ((B+2)'(t_q[i]) + (B+2)'(1)) >>> 1;
+  end
+  always_ff @(posedge clk_i) begin
+    for (int i = 0; i < N; i++)
+      mant_o[i*B +: B] <= (r_w[i] > MantMax) ? MantMax[B-1:0] : r_w[i][B-1:0];
+  end
+endmodule
+
+// out = saturate_OutW(round_to_nearest(v 2^-s)) (s <= 0: exact left shift by -s, at most
+// MaxLeft), clip_o = it saturated. Latency 2: barrel shift by s - 1 (keeping the rounding
+// bit), then one carry chain (+1, >> 1) and the range check.
+module rheo_round_shift #(
+  parameter int InW = 36,
+  parameter int OutW = 32,
+  parameter int ShiftW = 8,  // signed shift amount
+  parameter int MaxLeft = 0
+) (
+  input  logic                     clk_i,
+  input  logic signed [InW-1:0]    v_i,
+  input  logic signed [ShiftW-1:0] s_i,
+  output logic signed [OutW-1:0]   out_o,
+  output logic                     clip_o
+);
+  localparam int TW = InW + 1 + MaxLeft;
+  localparam logic signed [TW:0] OutMax = (TW+1)'((64'sd1 <<< (OutW - 1)) - 64'sd1);
+  localparam logic signed [TW:0] OutMin = -OutMax - (TW+1)'(1);
+  logic signed [TW-1:0] t_q;
+  logic signed [TW:0] r_w;
+  always_ff @(posedge clk_i) begin
+    if (s_i[ShiftW-1]) t_q <= TW'(v_i) <<< (1 + $unsigned(-s_i));
+    else t_q <= (TW'(v_i) <<< 1) >>> $unsigned(s_i);
+  end
+  always_comb r_w = ((TW+1)'(t_q) + (TW+1)'(1)) >>> 1;
+  always_ff @(posedge clk_i) begin
+    if (r_w > OutMax) begin
+      out_o <= {1'b0, {(OutW-1){1'b1}}};
+      clip_o <= 1'b1;
+    end else if (r_w < OutMin) begin
+      out_o <= {1'b1, {(OutW-1){1'b0}}};
+      clip_o <= 1'b1;
+    end else begin
+      out_o <= r_w[OutW-1:0];
+      clip_o <= 1'b0;
+    end
+  end
+endmodule
+
+// N-clock delay line (pipeline balancing).
+module rheo_delay #(
+  parameter int W = 32,
+  parameter int N = 1
+) (
+  input  logic         clk_i,
+  input  logic [W-1:0] d_i,
+  output logic [W-1:0] q_o
+);
+  logic [W-1:0] q [N];
+  always_ff @(posedge clk_i) begin
+    q[0] <= d_i;
+    for (int s = 1; s < N; s++) q[s] <= q[s-1];
+  end
+  assign q_o = q[N-1];
+endmodule
