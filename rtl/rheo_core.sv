@@ -102,7 +102,9 @@ module rheo_core #(
   logic [2:0] field_q;      // word within the entry
   logic clear_q;            // status: clear after reading
   logic [23:0] row_q;       // TEM/gather row
-  logic [4:0] drain_q;
+  // wide enough for either drain (the TEM's is 43 clocks)
+  localparam int DrainW = $clog2((TemDrain > MpmDrain) ? TemDrain : MpmDrain);
+  logic [DrainW-1:0] drain_q;
   logic [W-1:0] out_data_q;
   logic out_valid_q, out_last_q;
   logic signed [PlateAccW-1:0] plate_acc_q;
@@ -606,7 +608,7 @@ module rheo_core #(
         StTem: begin
           if (row_q + 24'd1 >= tem_rows) begin
             row_q <= '0;
-            drain_q <= 5'(TemDrain - 1);
+            drain_q <= DrainW'(TemDrain - 1);
             state_q <= StTemDrain;
           end else begin
             row_q <= row_q + 24'd1;
@@ -614,13 +616,13 @@ module rheo_core #(
         end
         StTemDrain: begin
           if (drain_q == 0) state_q <= (gather_rows_q == 0) ? StMpmDrain : StGather;
-          else drain_q <= drain_q - 5'd1;
-          if (drain_q == 0) drain_q <= 5'(MpmDrain - 1);
+          else drain_q <= drain_q - DrainW'(1);
+          if (drain_q == 0) drain_q <= DrainW'(MpmDrain - 1);
         end
         StGather: begin
           if (row_q + 24'd1 >= gather_rows_q) begin
             row_q <= '0;
-            drain_q <= 5'(MpmDrain - 1);
+            drain_q <= DrainW'(MpmDrain - 1);
             state_q <= StMpmDrain;
           end else begin
             row_q <= row_q + 24'd1;
@@ -636,7 +638,7 @@ module rheo_core #(
             step_count_q <= step_count_q + 32'd1;
             state_q <= StForceOut;
           end else begin
-            drain_q <= drain_q - 5'd1;
+            drain_q <= drain_q - DrainW'(1);
           end
         end
         StForceOut: begin

@@ -48,69 +48,89 @@ module rheo_normalize #(
     end
   end
   // ---- stage 3: mant = (t + 1) >> 1 = round(v 2^-shift), held below 2^(B-1) ----
-  localparam logic signed [B+1:0] MantMax = (B+2)'((64'sd1 <<< (B - 1)) - 64'sd1);
+  // r in [-2^(B-1), 2^(B-1)]: the only overflow is r = 2^(B-1) (bits B+1..B-1 = 001)
   logic signed [B+1:0] r_w [N];
   always_comb begin
     for (int i = 0; i < N; i++) r_w[i] = ((B+2)'(t_q[i]) + (B+2)'(1)) >>> 1;
   end
   always_ff @(posedge clk_i) begin
     for (int i = 0; i < N; i++)
-      mant_o[i*B +: B] <= (r_w[i] > MantMax) ? MantMax[B-1:0] : r_w[i][B-1:0];
+      mant_o[i*B +: B] <= (r_w[i][B+1:B-1] == 3'b001) ? {1'b0, {(B-1){1'b1}}} : r_w[i][B-1:0];
   end
 endmodule
 
-// out = saturate_OutW(round_to_nearest(v 2^-s)) (s <= 0: exact left shift by -s, at most
-// MaxLeft), clip_o = it saturated. Latency 2: barrel shift by s - 1 (keeping the rounding
-// bit), then one carry chain (+1, >> 1) and the range check.
+// out = saturate_OutW(round_to_nearest(v 2^-s)) for s >= -MaxLeft (s <= 0: exact left
+// shift), clip_o = it saturated. The caller gives sb_i = s + MaxLeft >= 0, so one right
+// shifter serves both directions: t = (v 2^(1+MaxLeft)) >> sb = floor(v 2^-(s-1)) keeps the
+// rounding bit. Latency 2: that barrel shift, then one carry chain (+1, >> 1) and the range
+// check on the bits above OutW.
 module rheo_round_shift #(
   parameter int InW = 36,
   parameter int OutW = 32,
-  parameter int ShiftW = 8,  // signed shift amount
+  parameter int ShiftW = 7,  // unsigned biased shift amount
   parameter int MaxLeft = 0
 ) (
   input  logic                     clk_i,
   input  logic signed [InW-1:0]    v_i,
-  input  logic signed [ShiftW-1:0] s_i,
+  input  logic [ShiftW-1:0]        sb_i,   // s + MaxLeft
   output logic signed [OutW-1:0]   out_o,
   output logic                     clip_o
 );
   localparam int TW = InW + 1 + MaxLeft;
-  localparam logic signed [TW:0] OutMax = (TW+1)'((64'sd1 <<< (OutW - 1)) - 64'sd1);
-  localparam logic signed [TW:0] OutMin = -OutMax - (TW+1)'(1);
   logic signed [TW-1:0] t_q;
   logic signed [TW:0] r_w;
-  always_ff @(posedge clk_i) begin
-    if (s_i[ShiftW-1]) t_q <= TW'(v_i) <<< (1 + $unsigned(-s_i));
-    else t_q <= (TW'(v_i) <<< 1) >>> $unsigned(s_i);
-  end
+  always_ff @(posedge clk_i) t_q <= (TW'(v_i) <<< (1 + MaxLeft)) >>> sb_i;
   always_comb r_w = ((TW+1)'(t_q) + (TW+1)'(1)) >>> 1;
+  // fits in OutW bits iff bits TW..OutW-1 all equal the sign
+  logic fits;
+  always_comb fits = (&r_w[TW:OutW-1]) | ~(|r_w[TW:OutW-1]);
   always_ff @(posedge clk_i) begin
-    if (r_w > OutMax) begin
-      out_o <= {1'b0, {(OutW-1){1'b1}}};
-      clip_o <= 1'b1;
-    end else if (r_w < OutMin) begin
-      out_o <= {1'b1, {(OutW-1){1'b0}}};
-      clip_o <= 1'b1;
-    end else begin
-      out_o <= r_w[OutW-1:0];
-      clip_o <= 1'b0;
-    end
+    clip_o <= ~fits;
+    if (fits) out_o <= r_w[OutW-1:0];
+    else out_o <= {r_w[TW], {(OutW-1){~r_w[TW]}}};
   end
 endmodule
 
-// N-clock delay line (pipeline balancing).
+// N-clock delay line (pipeline balancing). Short lines are flip-flops; from 4 clocks on the
+// line is a circular buffer in distributed RAM (one RAM16X1D / RAM32X1D per bit instead of
+// N flip-flops; Yosys does not infer SRL16 for Virtex-II), read N - 1 clocks after the
+// write into an output register. N <= 33.
 module rheo_delay #(
   parameter int W = 32,
   parameter int N = 1
 ) (
   input  logic         clk_i,
+  input  logic         rst_ni,
   input  logic [W-1:0] d_i,
   output logic [W-1:0] q_o
 );
-  logic [W-1:0] q [N];
-  always_ff @(posedge clk_i) begin
-    q[0] <= d_i;
-    for (int s = 1; s < N; s++) q[s] <= q[s-1];
+  if (N < 4) begin : g_ff
+    logic unused_rst;
+    assign unused_rst = rst_ni;
+    logic [W-1:0] q [N];
+    always_ff @(posedge clk_i) begin
+      q[0] <= d_i;
+      for (int s = 1; s < N; s++) q[s] <= q[s-1];
+    end
+    assign q_o = q[N-1];
+  end else begin : g_ram
+    localparam int AW = (N - 1 <= 16) ? 4 : 5;
+    if (N - 1 > 32) begin : g_depth_check
+      $error("rheo_delay: N must be at most 33");
+    end
+    // distributed: Yosys would otherwise spend block RAMs, which the core's memories need
+    (* ram_style = "distributed" *) logic [W-1:0] mem [2**AW];
+    logic [AW-1:0] wr_q;
+    logic [AW-1:0] rd;
+    always_ff @(posedge clk_i or negedge rst_ni) begin
+      if (!rst_ni) wr_q <= '0;
+      else wr_q <= wr_q + AW'(1);
+    end
+    // written N - 1 clocks ago; N - 1 <= 2^AW - 1, so it is not yet overwritten
+    assign rd = wr_q - AW'(N - 1);
+    always_ff @(posedge clk_i) begin
+      mem[wr_q] <= d_i;
+      q_o <= mem[rd];
+    end
   end
-  assign q_o = q[N-1];
 endmodule

@@ -16,6 +16,7 @@ module rheo_rsqrt #(
   localparam int L2W = 2 * B            // l2n < 3 * 2^(2B-2) < 2^(2B)
 ) (
   input  logic                 clk_i,
+  input  logic                 rst_ni,        // delay-line pointers only
   input  logic [L2W-1:0]       l2_i,          // l2n (unsigned)
   output logic signed [B-1:0]  mant_o,        // m, Q1.(B-2)
   output logic signed [B-1:0]  y_o,           // y, Q0.(B-1), 0 when degenerate
@@ -50,10 +51,11 @@ module rheo_rsqrt #(
   // ---- stages 2-3: m = l2n 2^-(n - (B-1)), rounded, held below 2^(B-1) ----
   logic signed [B-1:0] m_3;
   logic unused_m_clip;
-  rheo_round_shift #(.InW(L2W + 1), .OutW(B), .ShiftW(8), .MaxLeft(B - 1)) u_m (
+  // s = n - (B-1) >= -(B-1): biased by MaxLeft = B - 1 the shift amount is n itself
+  rheo_round_shift #(.InW(L2W + 1), .OutW(B), .ShiftW(6), .MaxLeft(B - 1)) u_m (
     .clk_i (clk_i),
     .v_i   ($signed({1'b0, l2_1_q})),
-    .s_i   (8'(n_1_q) - 8'(B - 1)),
+    .sb_i  (n_1_q),
     .out_o (m_3),
     .clip_o(unused_m_clip)
   );
@@ -63,7 +65,7 @@ module rheo_rsqrt #(
     if (n_1_q == 0) pk_1 = 7'b1_00000_0;
     else pk_1 = {1'b0, 5'((n_1_q - 6'd1) >> 1), n_1_q[0] ^ 1'b1};
   end
-  rheo_delay #(.W(7), .N(2)) u_pk_d (.clk_i(clk_i), .d_i(pk_1), .q_o(pk_3));
+  rheo_delay #(.W(7), .N(2)) u_pk_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(pk_1), .q_o(pk_3));
 
   // ---- stage 4: seed ROM ----
   logic signed [B-1:0] m_q [4:9];
@@ -84,15 +86,16 @@ module rheo_rsqrt #(
   logic signed [PW+1:0] eps_wide_q;
   logic signed [PW+1:0] eps_round_w;
   logic signed [PW+EpsFrac:0] y_new_w;
-  localparam logic signed [PW+1:0] EpsMax = (PW+2)'((64'sd1 <<< (B - 1)) - 64'sd1);
-  localparam logic signed [PW+1:0] EpsMin = -EpsMax - (PW+2)'(1);
-  localparam logic signed [PW+EpsFrac:0] YMax = (PW+EpsFrac+1)'((64'sd1 <<< (B - 1)) - 64'sd1);
+  logic eps_fits, y_fits;
   always_comb begin
     eps_round_w = (eps_wide_q + ((PW+2)'(1) <<< (2 * B - 4 - EpsFrac))) >>> (2 * B - 3 - EpsFrac);
     // y0 + round(y0 eps 2^-(EpsFrac+1)) as one sum: y0 2^(EpsFrac+1) + y0 eps + half
     y_new_w = ((PW+EpsFrac+1)'(y0_q[10]) <<< (EpsFrac + 1)) + (PW+EpsFrac+1)'(corr_q) +
               ((PW+EpsFrac+1)'(1) <<< EpsFrac);
     y_new_w = y_new_w >>> (EpsFrac + 1);
+    // range checks on the bits above the operand (no comparator chains)
+    eps_fits = (&eps_round_w[PW+1:B-1]) | ~(|eps_round_w[PW+1:B-1]);
+    y_fits = ~(|y_new_w[PW+EpsFrac:B-1]);  // y_new > 0
   end
   always_ff @(posedge clk_i) begin
     my_prod_q <= m_q[4] * y0_q[4];                                   // stage 5
@@ -100,17 +103,16 @@ module rheo_rsqrt #(
     my2_q <= my_q * y0_q[6];                                         // stage 7
     eps_wide_q <= ((PW+2)'(1) <<< (2 * B - 3)) -                     // stage 8
                   ((PW+2)'(my2_q) <<< pk_q[7][0]);
-    if (eps_round_w > EpsMax) eps_q <= EpsMax[B-1:0];                 // stage 9
-    else if (eps_round_w < EpsMin) eps_q <= EpsMin[B-1:0];
-    else eps_q <= eps_round_w[B-1:0];
+    if (eps_fits) eps_q <= eps_round_w[B-1:0];                       // stage 9
+    else eps_q <= {eps_round_w[PW+1], {(B-1){~eps_round_w[PW+1]}}};
     corr_q <= y0_q[9] * eps_q;                                       // stage 10
     if (pk_q[10][6]) y_q <= '0;                                      // stage 11
-    else if (y_new_w > YMax) y_q <= YMax[B-1:0];
+    else if (!y_fits) y_q <= {1'b0, {(B-1){1'b1}}};
     else y_q <= y_new_w[B-1:0];
   end
 
   logic signed [B-1:0] m_11;
-  rheo_delay #(.W(B), .N(2)) u_m_d (.clk_i(clk_i), .d_i(m_q[9]), .q_o(m_11));
+  rheo_delay #(.W(B), .N(2)) u_m_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m_q[9]), .q_o(m_11));
   assign mant_o = m_11;
   assign y_o = y_q;
   assign parity_o = pk_q[11][0];

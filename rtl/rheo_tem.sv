@@ -18,9 +18,11 @@
 //   30 coefficient products                           32 scaled       33 dd, T (, dm)
 //   34 dd >> 4 (, dm)    35 d + dd (, m + dm)         36 clamp, T^    37 T^ u
 //   39 f (output registers).
-// Each stage holds one multiplier, or one carry chain (<= ~40 bits) with a few LUT levels,
-// or a barrel shift. Multipliers (all B x B): 3 (r.r) + 3 (rsqrt) + 1 (l) + 3 (u)
-// + 3 (ldot) + 6 (coefficients) + 3 (T u) = 22.
+// Each stage holds one multiplier (registered inputs and output), or one carry chain (at
+// most 55 bits: the rounding of the rsqrt's m) with a few LUT levels, or a barrel shift.
+// Long delay lines (coefficients, d, operands waiting for y) are distributed RAM.
+// Multipliers (all B x B): 3 (r.r) + 3 (rsqrt) + 1 (l) + 3 (u) + 3 (ldot)
+// + 6 (coefficients) + 3 (T u) = 22.
 // MaxwellArm = 1 adds the parallel Maxwell arm (rheo::hls::tem_edge<Fmt, true>): the
 // edge carries the arm's extension m (m_i -> m_o) and two more coefficients (gamma, k2t):
 //   t 30: m^ gamma, k2t m^;  t 33: dm = ldot - m gamma, T = kt ds + ct ldot + k2t m;
@@ -77,24 +79,24 @@ module rheo_tem #(
     $error("rheo_tem: the stage schedule below is for TemLatency = 40");
   end
 
-  localparam logic signed [W:0] WMax = (W+1)'((64'sd1 <<< (W - 1)) - 64'sd1);
-  localparam logic signed [W:0] WMin = -WMax - (W+1)'(1);
+  // Saturation of a (W+1)-bit sum to W bits: it clips iff the top two bits differ (a range
+  // check without a comparator chain).
   function automatic logic clip(input logic signed [W:0] v);
-    clip = (v > WMax) || (v < WMin);
+    clip = v[W] ^ v[W-1];
   endfunction
   function automatic logic signed [W-1:0] sat(input logic signed [W:0] v);
-    if (v > WMax) sat = WMax[W-1:0];
-    else if (v < WMin) sat = WMin[W-1:0];
+    if (clip(v)) sat = {v[W], {(W-1){~v[W]}}};
     else sat = v[W-1:0];
   endfunction
-  // Three-term sum (the arm's tension) in W + 2 bits.
-  localparam logic signed [W+1:0] WMax2 = (W+2)'(WMax);
-  localparam logic signed [W+1:0] WMin2 = (W+2)'(WMin);
+  // Three-term sum (the arm's tension) in W + 2 bits: fits iff the top three bits agree.
+  function automatic logic clip2(input logic [2:0] top);  // bits W+1..W-1
+    clip2 = !((&top) || !(|top));
+  endfunction
 
   // ---- control pipeline: valid (reset), index, material flags, saturation ----
   logic v_q [Last+1];
-  logic [IdxW-1:0] idx_q [Last+1];
-  logic [1:0] mflags_q [36];
+  logic [IdxW-1:0] idx0_q, idx20, idx_out;
+  logic [1:0] mflags0_q, mflags35;
   logic sat_q [Last+1];
   logic flag_at [Last+1];  // clip flags visible in the registers of stage t
 
@@ -111,8 +113,8 @@ module rheo_tem #(
   logic signed [W-1:0] xs_q [3], xe_q [3], ps_q [3], pe_q [3], d0_q, len_q, m0_q;
   logic [CoefW-1:0] coef0_q [NumCoef];
   always_ff @(posedge clk_i) begin
-    idx_q[0] <= idx_i;
-    mflags_q[0] <= mat_flags_i;
+    idx0_q <= idx_i;
+    mflags0_q <= mat_flags_i;
     for (int i = 0; i < 3; i++) begin
       xs_q[i] <= xs_i[i*W +: W];
       xe_q[i] <= xe_i[i*W +: W];
@@ -123,9 +125,15 @@ module rheo_tem #(
     len_q <= len_i;
     m0_q <= m_i;
     for (int c = 0; c < NumCoef; c++) coef0_q[c] <= coef_i[c*CoefW +: CoefW];
-    for (int s = 1; s <= Last; s++) idx_q[s] <= idx_q[s-1];
-    for (int s = 1; s < 36; s++) mflags_q[s] <= mflags_q[s-1];
   end
+  rheo_delay #(.W(IdxW), .N(20)) u_idx_d1 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(idx0_q), .q_o(idx20));
+  rheo_delay #(.W(IdxW), .N(Last - 20)) u_idx_d2 (
+    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(idx20), .q_o(idx_out));
+  logic [1:0] mflags17;
+  rheo_delay #(.W(2), .N(17)) u_mflags_d1 (
+    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags0_q), .q_o(mflags17));
+  rheo_delay #(.W(2), .N(18)) u_mflags_d2 (
+    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags17), .q_o(mflags35));
 
   // ---- stage 1: differences ----
   logic signed [W:0] r_w [3], dp_w [3], ds_w;
@@ -174,6 +182,7 @@ module rheo_tem #(
   logic [5:0] rs_k18;
   rheo_rsqrt #(.B(B)) u_rsqrt (
     .clk_i       (clk_i),
+    .rst_ni      (rst_ni),
     .l2_i        (l2n7_q),
     .mant_o      (rs_mant18),
     .y_o         (rs_y18),
@@ -186,58 +195,59 @@ module rheo_tem #(
   logic [3*B-1:0] rn18_flat;
   logic signed [B-1:0] rn18 [3];
   logic [EW-1:0] er18;
-  rheo_delay #(.W(3*B), .N(14)) u_rn_d (.clk_i(clk_i), .d_i(rn4_flat), .q_o(rn18_flat));
-  rheo_delay #(.W(EW), .N(14)) u_er_d (.clk_i(clk_i), .d_i(er4), .q_o(er18));
+  rheo_delay #(.W(3*B), .N(14)) u_rn_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(rn4_flat), .q_o(rn18_flat));
+  rheo_delay #(.W(EW), .N(14)) u_er_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(er4), .q_o(er18));
   always_comb for (int i = 0; i < 3; i++) rn18[i] = rn18_flat[i*B +: B];
 
   // ---- stage 19: m y, r^ y; stages 20-21: l = m y 2^(er + parity + k - (2B-3)),
   //      u = r^ y 2^-(k+1) ----
   logic signed [PW-1:0] lprod19_q, uprod19_q [3];
-  logic signed [7:0] ls19_q, us19_q;
+  logic [6:0] ls19_q, us19_q;
   logic deg_q [19:Last];
   always_ff @(posedge clk_i) begin
     lprod19_q <= rs_mant18 * rs_y18;
     for (int i = 0; i < 3; i++) uprod19_q[i] <= rn18[i] * rs_y18;
-    ls19_q <= 8'(2 * B - 3) - 8'(er18) - 8'(rs_parity18) - 8'(rs_k18);
-    us19_q <= 8'(rs_k18) + 8'd1;
+    // both >= 0: er + parity + k <= 15 + 18 = 2B - 3 (l2n < 2^36 gives k <= 17)
+    ls19_q <= 7'(2 * B - 3) - 7'(er18) - 7'(rs_parity18) - 7'(rs_k18);
+    us19_q <= 7'(rs_k18) + 7'd1;
     deg_q[19] <= rs_deg18;
     for (int s = 20; s <= Last; s++) deg_q[s] <= deg_q[s-1];
   end
   logic signed [W-1:0] l21;
   logic signed [B-1:0] u21 [3];
   logic clip_l21, clip_u21 [3];
-  rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(8), .MaxLeft(0)) u_l (
-    .clk_i(clk_i), .v_i(lprod19_q), .s_i(ls19_q), .out_o(l21), .clip_o(clip_l21));
+  rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_l (
+    .clk_i(clk_i), .v_i(lprod19_q), .sb_i(ls19_q), .out_o(l21), .clip_o(clip_l21));
   for (genvar i = 0; i < 3; i++) begin : g_u
-    rheo_round_shift #(.InW(PW), .OutW(B), .ShiftW(8), .MaxLeft(0)) u_u (
-      .clk_i(clk_i), .v_i(uprod19_q[i]), .s_i(us19_q), .out_o(u21[i]), .clip_o(clip_u21[i]));
+    rheo_round_shift #(.InW(PW), .OutW(B), .ShiftW(7), .MaxLeft(0)) u_u (
+      .clk_i(clk_i), .v_i(uprod19_q[i]), .sb_i(us19_q), .out_o(u21[i]), .clip_o(clip_u21[i]));
   end
 
   // ---- stages 22-26: ldot = u . dp^ 2^(edp - FracU) ----
   logic [3*B-1:0] dpn21_flat;
   logic [EW-1:0] edp23;
-  rheo_delay #(.W(3*B), .N(17)) u_dpn_d (.clk_i(clk_i), .d_i(dpn4_flat), .q_o(dpn21_flat));
-  rheo_delay #(.W(EW), .N(19)) u_edp_d (.clk_i(clk_i), .d_i(edp4), .q_o(edp23));
+  rheo_delay #(.W(3*B), .N(17)) u_dpn_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(dpn4_flat), .q_o(dpn21_flat));
+  rheo_delay #(.W(EW), .N(19)) u_edp_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(edp4), .q_o(edp23));
   logic signed [PW-1:0] ldp22_q [3];
   logic signed [PW:0] ls01_23_q, ldp2_23_q;
   logic signed [PW+1:0] lacc24_q;
-  logic signed [7:0] lds24_q;
+  logic [6:0] lds24_q;
   always_ff @(posedge clk_i) begin
     for (int i = 0; i < 3; i++) ldp22_q[i] <= u21[i] * $signed(dpn21_flat[i*B +: B]);
     ls01_23_q <= (PW+1)'(ldp22_q[0]) + (PW+1)'(ldp22_q[1]);
     ldp2_23_q <= (PW+1)'(ldp22_q[2]);
     lacc24_q <= (PW+2)'(ls01_23_q) + (PW+2)'(ldp2_23_q);
-    lds24_q <= 8'(FracU) - 8'(edp23);
+    lds24_q <= 7'(FracU) - 7'(edp23);  // >= 1: edp <= W - (B-1) < FracU
   end
   logic signed [W-1:0] ldot26;
   logic clip_ldot26;
-  rheo_round_shift #(.InW(PW+2), .OutW(W), .ShiftW(8), .MaxLeft(0)) u_ldot (
-    .clk_i(clk_i), .v_i(lacc24_q), .s_i(lds24_q), .out_o(ldot26), .clip_o(clip_ldot26));
+  rheo_round_shift #(.InW(PW+2), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_ldot (
+    .clk_i(clk_i), .v_i(lacc24_q), .sb_i(lds24_q), .out_o(ldot26), .clip_o(clip_ldot26));
 
   // ---- stages 27-29: the coefficient operands ldot^, ds^, l^ (, m^) ----
   logic signed [W-1:0] ds26, l26, m26;
-  rheo_delay #(.W(W), .N(25)) u_ds_d (.clk_i(clk_i), .d_i(ds1_q), .q_o(ds26));
-  rheo_delay #(.W(W), .N(5)) u_l_d (.clk_i(clk_i), .d_i(l21), .q_o(l26));
+  rheo_delay #(.W(W), .N(25)) u_ds_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ds1_q), .q_o(ds26));
+  rheo_delay #(.W(W), .N(5)) u_l_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(l21), .q_o(l26));
   localparam int NumOp = (MaxwellArm != 0) ? 4 : 3;
   localparam int OpLdot = 0, OpDs = 1, OpL = 2, OpM = 3;
   logic [W-1:0] op26 [NumOp];
@@ -257,7 +267,7 @@ module rheo_tem #(
   // ---- stage 30: coefficient products; stages 31-32: shifted back ----
   logic [CoefW-1:0] coef29 [NumCoef];
   for (genvar c = 0; c < NumCoef; c++) begin : g_coef_d
-    rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .d_i(coef0_q[c]), .q_o(coef29[c]));
+    rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
   end
   // operand of each coefficient and the extra shift of its format change
   function automatic int coef_operand(input int c);
@@ -280,17 +290,18 @@ module rheo_tem #(
     endcase
   endfunction
   logic signed [PW-1:0] cprod30_q [NumCoef];
-  logic signed [7:0] cs30_q [NumCoef];
+  logic [6:0] cs30_q [NumCoef];
   logic signed [W-1:0] cres32 [NumCoef];
   logic cclip32 [NumCoef];
   for (genvar c = 0; c < NumCoef; c++) begin : g_coef
     always_ff @(posedge clk_i) begin
       cprod30_q[c] <= $signed(opn29[coef_operand(c)]) * $signed(coef29[c][CoefMantBits-1:0]);
-      cs30_q[c] <= 8'(coef29[c][CoefW-1:CoefMantBits]) - 8'(CoefShiftBias) +
-                   8'(coef_extra(c)) - 8'(ope29[coef_operand(c)]);
+      // shift + extra - e, biased by CoefMaxLeft (>= 0: the host keeps shift + extra >= 0)
+      cs30_q[c] <= 7'(coef29[c][CoefW-1:CoefMantBits]) + 7'(CoefMaxLeft - CoefShiftBias) +
+                   7'(coef_extra(c)) - 7'(ope29[coef_operand(c)]);
     end
-    rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(8), .MaxLeft(CoefMaxLeft)) u_scale (
-      .clk_i(clk_i), .v_i(cprod30_q[c]), .s_i(cs30_q[c]), .out_o(cres32[c]),
+    rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(CoefMaxLeft)) u_scale (
+      .clk_i(clk_i), .v_i(cprod30_q[c]), .sb_i(cs30_q[c]), .out_o(cres32[c]),
       .clip_o(cclip32[c]));
   end
 
@@ -306,10 +317,9 @@ module rheo_tem #(
   end
   always_ff @(posedge clk_i) begin
     dd33_q <= sat(dd_w);
-    if (t_w > WMax2) t33_q <= WMax[W-1:0];
-    else if (t_w < WMin2) t33_q <= WMin[W-1:0];
+    if (clip2(t_w[W+1:W-1])) t33_q <= {t_w[W+1], {(W-1){~t_w[W+1]}}};
     else t33_q <= t_w[W-1:0];
-    clip33_q <= clip(dd_w) | (t_w > WMax2) | (t_w < WMin2);
+    clip33_q <= clip(dd_w) | clip2(t_w[W+1:W-1]);
   end
 
   // ---- stages 34-36: T^ (operand of f) ----
@@ -320,9 +330,11 @@ module rheo_tem #(
 
   // ---- stages 34-36: d' = clamp(d + round(dd 2^-(FracP-FracX)), a_min l, a_max l) ----
   logic signed [W-1:0] d34, lo35, hi35;
-  rheo_delay #(.W(W), .N(34)) u_d_d (.clk_i(clk_i), .d_i(d0_q), .q_o(d34));
-  rheo_delay #(.W(W), .N(3)) u_lo_d (.clk_i(clk_i), .d_i(cres32[CAmin]), .q_o(lo35));
-  rheo_delay #(.W(W), .N(3)) u_hi_d (.clk_i(clk_i), .d_i(cres32[CAmax]), .q_o(hi35));
+  logic signed [W-1:0] d17;
+  rheo_delay #(.W(W), .N(17)) u_d_d1 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(d0_q), .q_o(d17));
+  rheo_delay #(.W(W), .N(17)) u_d_d2 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(d17), .q_o(d34));
+  rheo_delay #(.W(W), .N(3)) u_lo_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(cres32[CAmin]), .q_o(lo35));
+  rheo_delay #(.W(W), .N(3)) u_hi_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(cres32[CAmax]), .q_o(hi35));
   logic signed [W-1:0] ddr34_q, dnew35_q, dclamp36_q;
   logic signed [W:0] dnew_w;
   logic clip35_q;
@@ -332,38 +344,37 @@ module rheo_tem #(
     dnew35_q <= sat(dnew_w);
     clip35_q <= clip(dnew_w);
     dclamp36_q <= dnew35_q;
-    if (mflags_q[35][0] && dnew35_q < lo35) dclamp36_q <= lo35;
-    if (mflags_q[35][1] && dnew35_q > hi35) dclamp36_q <= hi35;
+    if (mflags35[0] && dnew35_q < lo35) dclamp36_q <= lo35;
+    if (mflags35[1] && dnew35_q > hi35) dclamp36_q <= hi35;
   end
 
   // ---- stage 37: T^ u; stages 38-39: f = T^ u 2^(et - FracU) ----
   logic [3*B-1:0] u36_flat;
-  rheo_delay #(.W(3*B), .N(15)) u_u_d (
-    .clk_i(clk_i), .d_i({u21[2], u21[1], u21[0]}), .q_o(u36_flat));
+  rheo_delay #(.W(3*B), .N(15)) u_u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i({u21[2], u21[1], u21[0]}), .q_o(u36_flat));
   logic signed [PW-1:0] fprod37_q [3];
-  logic signed [7:0] fs37_q;
+  logic [6:0] fs37_q;
   logic signed [W-1:0] f39 [3];
   logic fclip39 [3];
   always_ff @(posedge clk_i) begin
     for (int i = 0; i < 3; i++) fprod37_q[i] <= tn36 * $signed(u36_flat[i*B +: B]);
-    fs37_q <= 8'(FracU) - 8'(et36);
+    fs37_q <= 7'(FracU) - 7'(et36);  // >= 1
   end
   for (genvar i = 0; i < 3; i++) begin : g_f
-    rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(8), .MaxLeft(0)) u_f (
-      .clk_i(clk_i), .v_i(fprod37_q[i]), .s_i(fs37_q), .out_o(f39[i]), .clip_o(fclip39[i]));
+    rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_f (
+      .clk_i(clk_i), .v_i(fprod37_q[i]), .sb_i(fs37_q), .out_o(f39[i]), .clip_o(fclip39[i]));
   end
   logic signed [W-1:0] d39;
-  rheo_delay #(.W(W), .N(3)) u_dout_d (.clk_i(clk_i), .d_i(dclamp36_q), .q_o(d39));
+  rheo_delay #(.W(W), .N(3)) u_dout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(dclamp36_q), .q_o(d39));
 
   // ---- parallel Maxwell arm: dm = ldot - m gamma, m' = m + round(dm 2^-(FracP-FracX)) ----
-  logic clip_arm_at35;
+  logic clip_arm_at33, clip_arm_at35;  // the arm's clip flags seen in stages 33 and 35
   if (MaxwellArm != 0) begin : g_arm
     logic signed [W-1:0] ldot32, m34, dm33_q, dmr34_q, mnew35_q;
     logic signed [W:0] dm_w, mnew_w;
     logic clip_dm33_q, clip_m35_q;
-    rheo_delay #(.W(W), .N(26)) u_m26_d (.clk_i(clk_i), .d_i(m0_q), .q_o(m26));
-    rheo_delay #(.W(W), .N(8)) u_m34_d (.clk_i(clk_i), .d_i(m26), .q_o(m34));
-    rheo_delay #(.W(W), .N(6)) u_ldot_d (.clk_i(clk_i), .d_i(ldot26), .q_o(ldot32));
+    rheo_delay #(.W(W), .N(26)) u_m26_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m0_q), .q_o(m26));
+    rheo_delay #(.W(W), .N(8)) u_m34_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m26), .q_o(m34));
+    rheo_delay #(.W(W), .N(6)) u_ldot_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ldot26), .q_o(ldot32));
     always_comb begin
       dm_w = (W+1)'(ldot32) - (W+1)'(cres32[CGamma]);
       mnew_w = (W+1)'(m34) + (W+1)'(dmr34_q);
@@ -373,14 +384,16 @@ module rheo_tem #(
       clip_dm33_q <= clip(dm_w);
       dmr34_q <= W'(((W+1)'(dm33_q) + (W+1)'(1 << (FracP - FracX - 1))) >>> (FracP - FracX));
       mnew35_q <= sat(mnew_w);
-      clip_m35_q <= clip(mnew_w) | clip_dm33_q;
+      clip_m35_q <= clip(mnew_w);
     end
-    rheo_delay #(.W(W), .N(4)) u_mout_d (.clk_i(clk_i), .d_i(mnew35_q), .q_o(m_o));
+    rheo_delay #(.W(W), .N(4)) u_mout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(mnew35_q), .q_o(m_o));
+    assign clip_arm_at33 = clip_dm33_q;
     assign clip_arm_at35 = clip_m35_q;
   end else begin : g_no_arm
     logic unused_m;
     assign unused_m = ^m0_q;
     assign m26 = '0;
+    assign clip_arm_at33 = 1'b0;
     assign clip_arm_at35 = 1'b0;
     assign m_o = '0;
   end
@@ -392,7 +405,7 @@ module rheo_tem #(
     flag_at[21] = clip_l21 | clip_u21[0] | clip_u21[1] | clip_u21[2];
     flag_at[26] = clip_ldot26;
     for (int c = 0; c < NumCoef; c++) flag_at[32] = flag_at[32] | cclip32[c];
-    flag_at[33] = clip33_q;
+    flag_at[33] = clip33_q | clip_arm_at33;
     flag_at[35] = clip35_q | clip_arm_at35;
   end
   always_ff @(posedge clk_i) begin
@@ -401,7 +414,7 @@ module rheo_tem #(
   end
 
   assign valid_o = v_q[Last];
-  assign idx_o = idx_q[Last];
+  assign idx_o = idx_out;
   assign f_o = {f39[2], f39[1], f39[0]};
   assign d_o = d39;
   assign sat_o = v_q[Last] & (sat_q[Last] | flag_at[Last] | fclip39[0] | fclip39[1] | fclip39[2]);

@@ -10,6 +10,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "hls/fixed_format.hpp"
 #include "host/cli/commands.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
@@ -75,8 +76,10 @@ void run(const CosimArgs& args) {
   j["max_force_ref_N"] = r.max_force_ref_N;
   j["cycles_per_step_measured"] = r.cycles_per_step_measured;
   j["cycles_per_step_formula"] = r.cycles_per_step_formula;
-  j["cycles_per_step_formula_text"] =
-      "max(ceil(E/lanes),1) + 21 + G + 10, G = max over lanes of sum max(degree,1)";
+  j["cycles_per_step_formula_text"] = "max(ceil(E/lanes),1) + " +
+                                       std::to_string(hls::kTemDrainCycles) + " + G + " +
+                                       std::to_string(hls::kMpmDrainCycles) +
+                                       ", G = max over lanes of sum max(degree,1)";
   j["sim_cycles"] = r.sim_cycles;
   j["sim_cycles_per_s"] = r.sim_cycles_per_s;
   j["particles"] = r.particles;

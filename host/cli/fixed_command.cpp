@@ -1,8 +1,10 @@
 // `rheo fixed --scenario NAME|FILE --steps N --out DIR`: fixed-point vs float vs double.
 // Runs the scenario's hardware model on the double reference, in float and on the bit-true
-// core model at the hardware format, narrower/wider formats, a sweep of fractional widths
-// and the hardware format with truncation; writes DIR/fixed.json, the plot data, a gnuplot
-// script and DIR/fixed.png.
+// core model at the hardware format (18-bit multiplier operands), narrower/wider formats
+// and a sweep of fractional widths (all with full-width operands, so the sweep measures
+// word resolution), the hardware format with truncation and the hardware format with
+// full-width operands (what the operand narrowing costs); writes DIR/fixed.json, the plot
+// data, a gnuplot script and DIR/fixed.png.
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>

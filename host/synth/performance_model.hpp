@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "hls/fixed_format.hpp"
 #include "host/synth/synth_report.hpp"
 
 namespace rheo::synth {
@@ -37,8 +38,8 @@ int lanes_that_fit(const Resources& per_lane, const Resources& shared, const Dev
 //   G = max over lanes j of the sum, over the lane's particles (i % L == j, the driver's
 //       assignment), of max(degree_i, 1)
 struct CycleModel {
-  int tem_drain = 21;  // rtl/rheo_core.sv TemDrain (host/driver kTemDrainCycles)
-  int mpm_drain = 10;  // rtl/rheo_core.sv MpmDrain (host/driver kMpmDrainCycles)
+  int tem_drain = hls::kTemDrainCycles;  // rtl/rheo_core.sv TemDrain
+  int mpm_drain = hls::kMpmDrainCycles;  // rtl/rheo_core.sv MpmDrain
   std::string source = "rtl/rheo_core.sv header; host/driver/core_image.hpp";
 };
 struct ProblemSize {

@@ -152,10 +152,10 @@ TEST(ArmKernel, StretchedEdgeArmExtensionDecaysByGammaEachStep) {
   }
   // Rounding of each step's decrement: one X LSB, plus the 18-bit operand of m (2^-17 of m,
   // times gamma) per step.
-  const double gamma = driver::decode_coef(mc.gamma);
-  const double expected = m0 * std::pow(1.0 - gamma, kSteps);
+  const double gamma_coded = driver::decode_coef(mc.gamma);
+  const double expected = m0 * std::pow(1.0 - gamma_coded, kSteps);
   EXPECT_NEAR(std::ldexp(double(in.m), -Fmt::kFracX), expected,
-              kSteps * (std::ldexp(1.0, -Fmt::kFracX) + std::ldexp(gamma * m0, -17)));
+              kSteps * (std::ldexp(1.0, -Fmt::kFracX) + std::ldexp(gamma_coded * m0, -17)));
   EXPECT_LT(std::ldexp(double(in.m), -Fmt::kFracX), 0.2 * m0);  // it did decay
 }
 
