@@ -62,8 +62,10 @@ endmodule
 // out = saturate_OutW(round_to_nearest(v 2^-s)) for s >= -MaxLeft (s <= 0: exact left
 // shift), clip_o = it saturated. The caller gives sb_i = s + MaxLeft >= 0, so one right
 // shifter serves both directions: t = (v 2^(1+MaxLeft)) >> sb = floor(v 2^-(s-1)) keeps the
-// rounding bit. Latency 2: that barrel shift, then one carry chain (+1, >> 1) and the range
-// check on the bits above OutW.
+// rounding bit. Latency 2: that barrel shift, then the rounding (t + 1) >> 1 and the range
+// check. The carry chain of the +1 spans only the OutW + 1 bits that reach the output; the
+// bits above are checked for all-zeros / all-ones in parallel with it, and its carry-out
+// decides which of the two the result needs.
 module rheo_round_shift #(
   parameter int InW = 36,
   parameter int OutW = 32,
@@ -77,17 +79,29 @@ module rheo_round_shift #(
   output logic                     clip_o
 );
   localparam int TW = InW + 1 + MaxLeft;
+  localparam int LoW = OutW + 1;  // bits of t that reach the output: u[OutW:1], u = t + 1
+  if (TW <= LoW) begin : g_width_check
+    $error("rheo_round_shift: the shifted value must be wider than OutW + 1");
+  end
   logic signed [TW-1:0] t_q;
-  logic signed [TW:0] r_w;
   always_ff @(posedge clk_i) t_q <= (TW'(v_i) <<< (1 + MaxLeft)) >>> sb_i;
-  always_comb r_w = ((TW+1)'(t_q) + (TW+1)'(1)) >>> 1;
-  // fits in OutW bits iff bits TW..OutW-1 all equal the sign
-  logic fits;
-  always_comb fits = (&r_w[TW:OutW-1]) | ~(|r_w[TW:OutW-1]);
+  // u = t + 1 (no overflow: |t| < 2^(TW-1) - 1). u's low bits with the carry out of them:
+  logic [LoW:0] lo_sum;
+  logic hi_ones, hi_zeros, fits;
+  always_comb begin
+    lo_sum = {1'b0, t_q[LoW-1:0]} + (LoW+1)'(1);
+    hi_ones = &t_q[TW-1:LoW];
+    hi_zeros = ~(|t_q[TW-1:LoW]);
+    // u >> 1 fits in OutW bits iff u's bits TW-1..OutW are equal. Carry out: the high
+    // part is t's + 1 and u[OutW] = 0, so they are equal iff t's high bits are all ones;
+    // no carry: the high part is t's and must equal u[OutW].
+    fits = (lo_sum[LoW] | lo_sum[OutW]) ? hi_ones : hi_zeros;
+  end
   always_ff @(posedge clk_i) begin
     clip_o <= ~fits;
-    if (fits) out_o <= r_w[OutW-1:0];
-    else out_o <= {r_w[TW], {(OutW-1){~r_w[TW]}}};
+    // out of range: saturate towards t's sign (u has the same sign there)
+    if (fits) out_o <= lo_sum[OutW:1];
+    else out_o <= {t_q[TW-1], {(OutW-1){~t_q[TW-1]}}};
   end
 endmodule
 

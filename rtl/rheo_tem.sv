@@ -310,10 +310,16 @@ module rheo_tem #(
   logic clip33_q;
   logic signed [W+1:0] t_w;
   logic signed [W:0] dd_w;
+  logic [W+1:0] csa_a, csa_b, csa_c;
   always_comb begin
     dd_w = (W+1)'(cres32[CBeta]) - (W+1)'(cres32[CAlpha]);
-    t_w = (W+2)'(cres32[CKt]) + (W+2)'(cres32[CCt]);
-    if (MaxwellArm != 0) t_w = t_w + (W+2)'(cres32[NumCoef-1]);
+    csa_a = (W+2)'(cres32[CKt]);
+    csa_b = (W+2)'(cres32[CCt]);
+    csa_c = (MaxwellArm != 0) ? (W+2)'(cres32[NumCoef-1]) : '0;
+    // three terms through one carry chain: a carry-save step (one LUT level) first
+    t_w = $signed(csa_a ^ csa_b ^ csa_c) +
+          $signed({(csa_a[W:0] & csa_b[W:0]) | (csa_a[W:0] & csa_c[W:0]) |
+                   (csa_b[W:0] & csa_c[W:0]), 1'b0});
   end
   always_ff @(posedge clk_i) begin
     dd33_q <= sat(dd_w);
