@@ -24,14 +24,19 @@ module rheo_normalize #(
     for (int i = 0; i < N; i++) v[i] = v_i[i*InW +: InW];
   end
   // ---- stage 1: n = leading-bit count of the OR of the words XOR their signs ----
-  logic [InW-1:0] bits;
+  // The leading one is found in parallel (bit b is it iff no higher bit is set), and the
+  // shift is an OR of the candidates' constants: AND/OR logic that maps to a balanced LUT
+  // tree, not to a priority chain of multiplexers.
+  logic [InW-1:0] bits, higher;  // higher[b]: a bit above b is set
   logic [ShiftW-1:0] shift_w;
   always_comb begin
     bits = '0;
     for (int i = 0; i < N; i++) bits = bits | (v[i] ^ {InW{v[i][InW-1]}});
+    higher[InW-1] = 1'b0;
+    for (int b = InW - 2; b >= 0; b--) higher[b] = higher[b+1] | bits[b+1];
     shift_w = '0;
     for (int b = B - 1; b < InW; b++) begin
-      if (bits[b]) shift_w = ShiftW'(b - (B - 1) + 1);
+      shift_w = shift_w | ((bits[b] & ~higher[b]) ? ShiftW'(b - (B - 1) + 1) : '0);
     end
   end
   logic signed [InW-1:0] v1_q [N];

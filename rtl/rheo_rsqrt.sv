@@ -34,12 +34,15 @@ module rheo_rsqrt #(
   end
 
   // ---- stage 1: n = bit length of l2n ----
+  // Leading one in parallel (bit b is it iff no higher bit is set), n an OR of the
+  // candidates' constants: a balanced AND/OR tree rather than a priority multiplexer chain.
   logic [5:0] n_w;
+  logic [L2W-1:0] higher;  // higher[b]: a bit above b is set
   always_comb begin
+    higher[L2W-1] = 1'b0;
+    for (int b = L2W - 2; b >= 0; b--) higher[b] = higher[b+1] | l2_i[b+1];
     n_w = '0;
-    for (int b = 0; b < L2W; b++) begin
-      if (l2_i[b]) n_w = 6'(b + 1);
-    end
+    for (int b = 0; b < L2W; b++) n_w = n_w | ((l2_i[b] & ~higher[b]) ? 6'(b + 1) : 6'd0);
   end
   logic [L2W-1:0] l2_1_q;
   logic [5:0] n_1_q;
