@@ -19,7 +19,8 @@
 //   34 dd >> 4 (, dm)    35 d + dd (, m + dm)         36 clamp, T^    37 T^ u
 //   39 f (output registers).
 // Each stage holds one multiplier (registered inputs and output), or one carry chain (at
-// most 55 bits: the rounding of the rsqrt's m) with a few LUT levels, or a barrel shift.
+// most ~45 bits; rounding chains span only the output bits) with a few LUT levels, or a
+// barrel shift.
 // Long delay lines (coefficients, d, operands waiting for y) are distributed RAM.
 // Multipliers (all B x B): 3 (r.r) + 3 (rsqrt) + 1 (l) + 3 (u) + 3 (ldot)
 // + 6 (coefficients) + 3 (T u) = 22.
