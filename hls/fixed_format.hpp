@@ -27,27 +27,41 @@ enum class Rounding {
 //   P: displacement per step and its rates (ldot, ddot)         (FracP fractional bits)
 //   F: forces and the plate force                               (FracF fractional bits)
 // The integer parts are fixed by the unit choice: |x| < 2^(Width-1-FracX) Lu etc.
-template <int WidthV, int FracXV, int FracPV, int FracFV, Rounding RoundingV>
+// OperandBits: width of every multiplier operand of the TEM. State words stay Width bits;
+// before a product a word (or a vector, with one shared exponent) is block-normalised to an
+// OperandBits-bit signed mantissa and a right shift, and the product is shifted back. 18 is
+// one MULT18X18 per product; OperandBits = Width leaves the words whole (no narrowing).
+template <int WidthV, int FracXV, int FracPV, int FracFV, Rounding RoundingV,
+          int OperandBitsV = WidthV>
 struct Format {
   static constexpr int kWidth = WidthV;
   static constexpr int kFracX = FracXV;
   static constexpr int kFracP = FracPV;
   static constexpr int kFracF = FracFV;
   static constexpr Rounding kRounding = RoundingV;
+  static constexpr int kOperandBits = OperandBitsV;
+  // Unit vector u = r / |r| as an operand: Q1.(OperandBits-2), so that u = +-1 (an edge
+  // along an axis) is representable.
+  static constexpr int kFracU = OperandBitsV - 2;
   static_assert(kWidth >= 16 && kWidth <= 48, "products must fit in 128 bits");
   static_assert(kFracP <= kWidth - 1 && kFracX < kFracP, "p must be finer than x");
+  static_assert(kOperandBits >= 18 && kOperandBits <= kWidth,
+                "operands are at least one MULT18X18 wide and at most a word");
 };
 
 // The hardware format (what the RTL implements): 32-bit words, x in Q5.27 (|x| < 16 Lu),
-// p in Q1.31 (|p| < 1 Lu per step), forces in Q12.20 (|F| < 2048 Fu).
-using HardwareFormat = Format<32, 27, 31, 20, Rounding::kNearest>;
-// Exploration formats for `rheo fixed`: the same integer parts, 8 bits narrower/wider.
+// p in Q1.31 (|p| < 1 Lu per step), forces in Q12.20 (|F| < 2048 Fu); 18-bit multiplier
+// operands.
+inline constexpr int kHardwareOperandBits = 18;
+using HardwareFormat = Format<32, 27, 31, 20, Rounding::kNearest, kHardwareOperandBits>;
+// Ablation: the hardware words with full-width (32-bit) multiplier operands, i.e. what the
+// narrowing to 18 bits costs.
+using HardwareFullOperandFormat = Format<32, 27, 31, 20, Rounding::kNearest>;
+// Exploration formats for `rheo fixed`: the same integer parts, 8 bits narrower/wider,
+// full-width operands (so that the sweep measures word resolution alone).
 using NarrowFormat = Format<24, 19, 23, 12, Rounding::kNearest>;
 using WideFormat = Format<40, 35, 39, 28, Rounding::kNearest>;
-using HardwareTruncFormat = Format<32, 27, 31, 20, Rounding::kTruncate>;
-
-// Unit vector u = r / l: Q2.30 in 32 bits, independent of the state format.
-inline constexpr int kFracU = 30;
+using HardwareTruncFormat = Format<32, 27, 31, 20, Rounding::kTruncate, kHardwareOperandBits>;
 
 // Coefficients: value = mantissa * 2^-shift, an 18-bit signed mantissa (one MULT18X18
 // operand) and a shift in [-16, 47], packed in one 24-bit word as
@@ -56,19 +70,31 @@ inline constexpr int kCoefMantBits = 18;
 inline constexpr int kCoefShiftBits = 6;
 inline constexpr int kCoefShiftBias = 16;
 
-// Reciprocal square root: l2 is normalised to m = M / 2^30 in [1, 4), the seed comes
-// from a ROM indexed by the top kRsqrtIndexBits of M (m in [i/32, (i+1)/32)), and
-// kRsqrtIterations Newton-Raphson steps y <- y (3 - m y^2) / 2 refine it in Q2.30.
-inline constexpr int kRsqrtIndexBits = 7;
-inline constexpr int kRsqrtSeedBits = 18;  // seed in Q1.17
-inline constexpr int kRsqrtIterations = 2;
-inline constexpr int kRsqrtFrac = 30;
+// Reciprocal square root of the normalised squared length l2n (an exact sum of squares of
+// OperandBits-bit mantissas): l2n = m 2^(2k + parity) with m in [1, 2) rounded to an
+// operand (Q1.(B-2), B = OperandBits). A seed ROM indexed by {parity, the top
+// kRsqrtIndexBits - 1 fraction bits of m} gives y0 ~ 1/sqrt(m 2^parity) in Q0.17
+// (relative error <= 2^-11), and Newton-Raphson steps y <- y + y (1 - m 2^parity y^2) / 2
+// refine it in Q0.(B-1): one step for 18-bit operands (1.5 e0^2 ~ 2^-19 below the operand
+// rounding), more for wider operands.
+inline constexpr int kRsqrtIndexBits = 10;
+inline constexpr int kRsqrtSeedBits = 17;  // seed in Q0.17, unsigned (always < 1)
+// The correction term eps = 1 - m 2^parity y^2 stays below 2^-8 in magnitude (seed error
+// <= 2^-10 gives |eps| <= ~2^-9); it is an operand with kRsqrtEpsExtraFrac more fractional
+// bits than y.
+inline constexpr int kRsqrtEpsExtraFrac = 8;
+constexpr int rsqrt_iterations(int operand_bits) {
+  return operand_bits <= 19 ? 1 : (operand_bits <= 37 ? 2 : 3);
+}
 
-// Seed for ROM index i (valid for i in [32, 127]): 1/sqrt of the interval midpoint.
+// Seed for ROM index i = {parity, f} (f: kRsqrtIndexBits - 1 bits): 1/sqrt of the interval
+// midpoint of m 2^parity, m in [1 + f/512, 1 + (f+1)/512).
 inline std::uint32_t rsqrt_seed(int index) {
-  if (index < (1 << (kRsqrtIndexBits - 2))) return 0;  // never addressed: m >= 1
-  const double mid = (index + 0.5) / (1 << (kRsqrtIndexBits - 2));
-  return static_cast<std::uint32_t>(std::lround(std::ldexp(1.0 / std::sqrt(mid), 17)));
+  const int frac_bits = kRsqrtIndexBits - 1;
+  const int parity = index >> frac_bits;
+  const int f = index & ((1 << frac_bits) - 1);
+  const double mid = (1.0 + (f + 0.5) / (1 << frac_bits)) * (1 << parity);
+  return static_cast<std::uint32_t>(std::lround(std::ldexp(1.0 / std::sqrt(mid), kRsqrtSeedBits)));
 }
 
 // Status word bits (sticky until read-and-clear).
@@ -105,7 +131,7 @@ inline constexpr int kMaxLanes = 4;
 // force is taken and its write lands in the last clock).
 // The module latencies (valid_i to valid_o of rtl/rheo_tem.sv and rtl/rheo_mpm.sv) are
 // defined here so that the core's drains follow when a module's pipeline changes.
-inline constexpr int kTemLatency = 18;
+inline constexpr int kTemLatency = 40;
 inline constexpr int kMpmLatency = 8;
 inline constexpr int kTemDrainCycles = kTemLatency + 4;
 inline constexpr int kMpmDrainCycles = kMpmLatency + 2;

@@ -30,15 +30,17 @@ int main() {
   param("FracX", Fmt::kFracX, "fractional bits of positions and lengths");
   param("FracP", Fmt::kFracP, "fractional bits of displacement per step");
   param("FracF", Fmt::kFracF, "fractional bits of forces");
-  param("FracU", h::kFracU, "fractional bits of the unit vector");
+  param("OperandBits", Fmt::kOperandBits, "TEM multiplier operand width");
+  param("FracU", Fmt::kFracU, "fractional bits of the unit-vector operand");
   param("CoefMantBits", h::kCoefMantBits, "coefficient mantissa (one MULT18X18 operand)");
   param("CoefShiftBits", h::kCoefShiftBits, "coefficient exponent");
   param("CoefShiftBias", h::kCoefShiftBias, "stored shift = shift + bias");
   param("CoefW", h::kCoefMantBits + h::kCoefShiftBits, "packed coefficient");
   param("RsqrtIndexBits", h::kRsqrtIndexBits, "seed ROM address bits");
-  param("RsqrtSeedBits", h::kRsqrtSeedBits, "seed width (Q1.17)");
-  param("RsqrtIterations", h::kRsqrtIterations, "Newton-Raphson steps");
-  param("RsqrtFrac", h::kRsqrtFrac, "fractional bits of the rsqrt mantissa");
+  param("RsqrtSeedBits", h::kRsqrtSeedBits, "seed width (Q0.17, unsigned)");
+  param("RsqrtIterations", h::rsqrt_iterations(Fmt::kOperandBits), "Newton-Raphson steps");
+  param("RsqrtEpsExtraFrac", h::kRsqrtEpsExtraFrac,
+        "fractional bits of the Newton correction beyond y's");
   param("ShiftAlpha", Shifts::kAlpha, "extra shift of alpha*(d-L): X -> P");
   param("ShiftBeta", Shifts::kBeta, "extra shift of beta*ldot: P -> P");
   param("ShiftKt", Shifts::kKt, "extra shift of kt*(d-L): X -> F");
@@ -100,13 +102,14 @@ int main() {
       "    endcase\n"
       "  endfunction\n\n");
   std::printf(
-      "  // Reciprocal-square-root seed ROM: 1/sqrt(midpoint of [i/32, (i+1)/32)) in Q1.17.\n"
+      "  // Reciprocal-square-root seed ROM: index {parity, f}, 1/sqrt(midpoint of\n"
+      "  // [1 + f/512, 1 + (f+1)/512) * 2^parity) in Q0.17.\n"
       "  function automatic logic [RsqrtSeedBits-1:0] rsqrt_seed(\n"
       "      input logic [RsqrtIndexBits-1:0] index);\n"
       "    case (index)\n");
   for (int i = 0; i < (1 << h::kRsqrtIndexBits); ++i) {
-    const unsigned v = h::rsqrt_seed(i);
-    if (v != 0) std::printf("      7'd%d: rsqrt_seed = 18'd%u;\n", i, v);
+    std::printf("      %d'd%d: rsqrt_seed = %d'd%u;\n", h::kRsqrtIndexBits, i, h::kRsqrtSeedBits,
+                h::rsqrt_seed(i));
   }
   std::printf(
       "      default: rsqrt_seed = '0;\n"

@@ -8,6 +8,8 @@
 //   TEM, per edge k (s -> e), one per clock:
 //     r = x_e - x_s, dp = p_e - p_s, ds = d - L
 //     y = rsqrt(r.r) (seed ROM + Newton-Raphson), l = |r| = r.r * y, u = r * y
+//     (every product with Fmt::kOperandBits-bit operands: words and vectors are
+//     block-normalised to a mantissa and a shared exponent before they are multiplied)
 //     ldot = u . dp                          (length change per step)
 //     dd = beta * ldot - alpha * ds          (Voigt length change per step)
 //     T  = kt * ds + ct * ldot               (= k1 (d-L) + c1 ddot, folded)
@@ -81,42 +83,108 @@ inline int bit_length(i128 v) {
   return n;
 }
 
+// ---- block normalisation of multiplier operands -----------------------------------------
+
+// n such that v in [-2^n, 2^n): leading-bit count of the two's complement word (the RTL
+// ORs v XOR sign over the block and finds the leading one).
+inline int signed_bit_length(i128 v) { return bit_length(v < 0 ? ~v : v); }
+
+// Right shift that brings a block with signed_bit_length n into B-bit operands.
+template <int B>
+inline int operand_shift(int n) {
+  return n > B - 1 ? n - (B - 1) : 0;
+}
+
+// v 2^-shift as a B-bit operand. Rounding to nearest can carry the largest positive value
+// to 2^(B-1); it is held at 2^(B-1) - 1 (an error of one operand LSB, not a saturation).
+template <int B, Rounding R>
+inline std::int64_t to_operand(i128 v, int shift) {
+  const i128 m = shift_round<R>(v, shift);
+  const i128 hi = (i128(1) << (B - 1)) - 1;
+  return static_cast<std::int64_t>(m > hi ? hi : m);
+}
+
+// A word or vector as B-bit operands with one shared exponent: value = mant * 2^shift.
+template <int N>
+struct Operands {
+  std::int64_t mant[N];
+  int shift;
+};
+
+template <int B, Rounding R, int N>
+inline Operands<N> normalize(const std::int64_t (&v)[N]) {
+  i128 bits = 0;
+  for (int i = 0; i < N; ++i) bits |= v[i] < 0 ? ~i128(v[i]) : i128(v[i]);
+  Operands<N> out;
+  out.shift = operand_shift<B>(bit_length(bits));
+  for (int i = 0; i < N; ++i) out.mant[i] = to_operand<B, R>(v[i], out.shift);
+  return out;
+}
+
+template <int B, Rounding R>
+inline Operands<1> normalize(std::int64_t v) {
+  const std::int64_t block[1] = {v};
+  return normalize<B, R, 1>(block);
+}
+
+// word * coef, shifted right by a further `extra` bits (the format change), with the word
+// narrowed to an operand first: the operand's exponent is added to the coefficient shift.
+template <class Fmt>
+inline std::int64_t mul_coef_operand(std::int64_t word, const Coef& c, int extra,
+                                     std::uint32_t* status, std::uint32_t bit) {
+  const Operands<1> a = normalize<Fmt::kOperandBits, Fmt::kRounding>(word);
+  const i128 prod = i128(a.mant[0]) * c.mant;
+  return saturate(shift_round<Fmt::kRounding>(prod, c.shift + extra - a.shift), Fmt::kWidth,
+                  status, bit);
+}
+
 // ---- reciprocal square root -----------------------------------------------------------
 
 struct RsqrtResult {
-  std::int64_t mant;  // M: l2 normalised to [2^30, 2^32)
-  std::int64_t y;     // Y ~ 2^30 / sqrt(M / 2^30), Q2.30
-  int k;              // l2_raw = M * 4^k
-  bool degenerate;    // l2 == 0
+  std::int64_t mant;  // m in [1, 2) as a Q1.(B-2) operand
+  std::int64_t y;     // ~ 1/sqrt(m 2^parity) as a Q0.(B-1) operand, in (1/2, 1)
+  int parity;         // l2n = m 2^(2k + parity)
+  int k;
+  bool degenerate;    // l2n == 0: every output 0
 };
 
-// y = 1/sqrt(m) for m = M/2^30 in [1, 4). Shared by the l2 path and the accuracy test.
-template <Rounding R>
-inline std::int64_t rsqrt_mantissa(std::int64_t m_raw) {
-  const int index = static_cast<int>(m_raw >> (32 - kRsqrtIndexBits));
-  std::int64_t y = std::int64_t(rsqrt_seed(index)) << (kRsqrtFrac - (kRsqrtSeedBits - 1));
+// y = 1/sqrt(m 2^parity) for m = m_raw 2^-(B-2) in [1, 2). Shared by the l2 path and the
+// accuracy test. Every product has B-bit operands.
+template <int B, Rounding R>
+inline std::int64_t rsqrt_mantissa(std::int64_t m_raw, int parity) {
+  static_assert(B >= kRsqrtSeedBits + 1, "the seed is an operand");
+  const int index = (parity << (kRsqrtIndexBits - 1)) |
+                    static_cast<int>((m_raw >> (B - 1 - kRsqrtIndexBits)) &
+                                     ((1 << (kRsqrtIndexBits - 1)) - 1));
+  std::int64_t y = std::int64_t(rsqrt_seed(index)) << (B - 1 - kRsqrtSeedBits);
+  const std::int64_t y_max = (std::int64_t(1) << (B - 1)) - 1;
+  constexpr int kEpsFrac = B - 1 + kRsqrtEpsExtraFrac;  // fractional bits of the eps operand
 #pragma HLS UNROLL
-  for (int it = 0; it < kRsqrtIterations; ++it) {
-    const std::int64_t y2 = static_cast<std::int64_t>(shift_round<R>(i128(y) * y, kRsqrtFrac));
-    const std::int64_t my2 =
-        static_cast<std::int64_t>(shift_round<R>(i128(m_raw) * y2, kRsqrtFrac));
-    const std::int64_t three_minus = (std::int64_t(3) << kRsqrtFrac) - my2;
-    y = static_cast<std::int64_t>(shift_round<R>(i128(y) * three_minus, kRsqrtFrac + 1));
+  for (int it = 0; it < rsqrt_iterations(B); ++it) {
+    // m y in Q1.(B-2), then m y^2 exact in Q1.(2B-3)
+    const std::int64_t my = static_cast<std::int64_t>(shift_round<R>(i128(m_raw) * y, B - 1));
+    const i128 my2 = i128(my) * y;
+    const i128 eps_wide = (i128(1) << (2 * B - 3)) - (my2 << parity);
+    const std::int64_t eps = to_operand<B, R>(eps_wide, 2 * B - 3 - kEpsFrac);
+    // y + y eps / 2: y eps has B - 1 + kEpsFrac fractional bits, one more for the half.
+    const i128 corr = shift_round<R>(i128(y) * eps, kEpsFrac + 1);
+    const i128 y_new = i128(y) + corr;
+    y = static_cast<std::int64_t>(y_new > y_max ? y_max : y_new);
   }
   return y;
 }
 
-// Normalises l2 (unsigned, any binary point) to M * 4^k with M in [2^30, 2^32).
-template <Rounding R>
-inline RsqrtResult rsqrt_l2(i128 l2) {
-  RsqrtResult res{0, 0, 0, l2 == 0};
+// Normalises the squared operand length l2n (exact, non-negative) to m 2^(2k + parity).
+template <int B, Rounding R>
+inline RsqrtResult rsqrt_l2(i128 l2n) {
+  RsqrtResult res{0, 0, 0, 0, l2n == 0};
   if (res.degenerate) return res;
-  const int n = bit_length(l2);
-  const int two_k = ((n - 31) % 2 == 0) ? n - 31 : n - 32;
-  res.k = two_k / 2;
-  // Right shifts truncate (bits below the 32-bit mantissa are dropped, as in the RTL).
-  res.mant = static_cast<std::int64_t>(two_k >= 0 ? (l2 >> two_k) : (l2 << -two_k));
-  res.y = rsqrt_mantissa<R>(res.mant);
+  const int n = bit_length(l2n);
+  // l2n ~ m_raw 2^(n - (B-1)) = m 2^(n-1)
+  res.mant = to_operand<B, R>(l2n, n - (B - 1));
+  res.parity = (n - 1) & 1;
+  res.k = (n - 1) >> 1;
+  res.y = rsqrt_mantissa<B, R>(res.mant, res.parity);
   return res;
 }
 
@@ -140,10 +208,13 @@ struct TemOut {
   std::int64_t m = 0;  // new Maxwell-arm extension (X format; 0 without the arm)
 };
 
+// Every product has Fmt::kOperandBits-bit operands (B): r and dp are block-normalised
+// vectors, ldot, d - L, l, T and m normalised words, u a Q1.(B-2) operand.
 template <class Fmt, bool MaxwellArm = false>
 inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* status) {
 #pragma HLS PIPELINE II = 1
   constexpr int W = Fmt::kWidth;
+  constexpr int B = Fmt::kOperandBits;
   constexpr Rounding R = Fmt::kRounding;
   using S = CoefShifts<Fmt>;
   const std::uint32_t kFlag = kStatusTemSaturated;
@@ -153,39 +224,48 @@ inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* s
     dp[i] = saturate(i128(in.pe[i]) - in.ps[i], W, status, kFlag);
   }
   const std::int64_t ds = saturate(i128(in.d) - in.L, W, status, kFlag);
-  const i128 l2 = i128(r[0]) * r[0] + i128(r[1]) * r[1] + i128(r[2]) * r[2];
-  const RsqrtResult rs = rsqrt_l2<R>(l2);
+  const Operands<3> rn = normalize<B, R>(r);
+  const Operands<3> dpn = normalize<B, R>(dp);
+  const i128 l2n = i128(rn.mant[0]) * rn.mant[0] + i128(rn.mant[1]) * rn.mant[1] +
+                   i128(rn.mant[2]) * rn.mant[2];
+  const RsqrtResult rs = rsqrt_l2<B, R>(l2n);
   if (rs.degenerate) *status |= kStatusDegenerateEdge;
-  // l = M * Y * 2^(k - 45) in X format; u = r * Y * 2^-(k + 15) in Q2.30 (fixed_format.hpp).
-  const std::int64_t l =
-      saturate(shift_round<R>(i128(rs.mant) * rs.y, 45 - rs.k), W, status, kFlag);
+  // |r| = 2^shift sqrt(l2n) = 2^shift m 2^parity y 2^k; m y has 2B-3 fractional bits.
+  const std::int64_t l = saturate(
+      shift_round<R>(i128(rs.mant) * rs.y, 2 * B - 3 - rn.shift - rs.parity - rs.k), W, status,
+      kFlag);
+  // u = r^ / sqrt(l2n) = r^ y 2^-k in Q1.(B-2): y has B-1 fractional bits.
   std::int64_t u[3];
   for (int i = 0; i < 3; ++i)
-    u[i] = saturate(shift_round<R>(i128(r[i]) * rs.y, rs.k + 15), 32, status, kFlag);
-  const i128 ldot_acc = i128(u[0]) * dp[0] + i128(u[1]) * dp[1] + i128(u[2]) * dp[2];
-  const std::int64_t ldot = saturate(shift_round<R>(ldot_acc, kFracU), W, status, kFlag);
-  const std::int64_t dd_beta = mul_coef<Fmt>(ldot, m.beta, S::kBeta, status, kFlag);
-  const std::int64_t dd_alpha = mul_coef<Fmt>(ds, m.alpha, S::kAlpha, status, kFlag);
+    u[i] = saturate(shift_round<R>(i128(rn.mant[i]) * rs.y, rs.k + 1), B, status, kFlag);
+  const i128 ldot_acc = i128(u[0]) * dpn.mant[0] + i128(u[1]) * dpn.mant[1] +
+                        i128(u[2]) * dpn.mant[2];
+  const std::int64_t ldot =
+      saturate(shift_round<R>(ldot_acc, Fmt::kFracU - dpn.shift), W, status, kFlag);
+  const std::int64_t dd_beta = mul_coef_operand<Fmt>(ldot, m.beta, S::kBeta, status, kFlag);
+  const std::int64_t dd_alpha = mul_coef_operand<Fmt>(ds, m.alpha, S::kAlpha, status, kFlag);
   const std::int64_t dd = saturate(i128(dd_beta) - dd_alpha, W, status, kFlag);
-  const std::int64_t t_spring = mul_coef<Fmt>(ds, m.kt, S::kKt, status, kFlag);
-  const std::int64_t t_damper = mul_coef<Fmt>(ldot, m.ct, S::kCt, status, kFlag);
+  const std::int64_t t_spring = mul_coef_operand<Fmt>(ds, m.kt, S::kKt, status, kFlag);
+  const std::int64_t t_damper = mul_coef_operand<Fmt>(ldot, m.ct, S::kCt, status, kFlag);
   TemOut out;
   std::int64_t tension;
   if constexpr (MaxwellArm) {
-    // The arm's two products sit beside the other coefficient products (RTL stage 14);
-    // its force joins the tension in one wide sum, so it saturates once.
-    const std::int64_t m_decay = mul_coef<Fmt>(in.m, m.gamma, S::kGamma, status, kFlag);
-    const std::int64_t t_arm = mul_coef<Fmt>(in.m, m.k2t, S::kK2t, status, kFlag);
+    // The arm's two products sit beside the other coefficient products; its force joins
+    // the tension in one wide sum, so it saturates once.
+    const std::int64_t m_decay = mul_coef_operand<Fmt>(in.m, m.gamma, S::kGamma, status, kFlag);
+    const std::int64_t t_arm = mul_coef_operand<Fmt>(in.m, m.k2t, S::kK2t, status, kFlag);
     tension = saturate(i128(t_spring) + t_damper + t_arm, W, status, kFlag);
     const std::int64_t dm = saturate(i128(ldot) - m_decay, W, status, kFlag);
     out.m = saturate(i128(in.m) + shift_round<R>(dm, Fmt::kFracP - Fmt::kFracX), W, status, kFlag);
   } else {
     tension = saturate(i128(t_spring) + t_damper, W, status, kFlag);
   }
-  const std::int64_t lo = mul_coef<Fmt>(l, m.a_min, S::kClamp, status, kFlag);
-  const std::int64_t hi = mul_coef<Fmt>(l, m.a_max, S::kClamp, status, kFlag);
+  const std::int64_t lo = mul_coef_operand<Fmt>(l, m.a_min, S::kClamp, status, kFlag);
+  const std::int64_t hi = mul_coef_operand<Fmt>(l, m.a_max, S::kClamp, status, kFlag);
+  const Operands<1> tn = normalize<B, R>(tension);
   for (int i = 0; i < 3; ++i)
-    out.f[i] = saturate(shift_round<R>(i128(tension) * u[i], kFracU), W, status, kFlag);
+    out.f[i] = saturate(shift_round<R>(i128(tn.mant[0]) * u[i], Fmt::kFracU - tn.shift), W,
+                        status, kFlag);
   std::int64_t d_new =
       saturate(i128(in.d) + shift_round<R>(dd, Fmt::kFracP - Fmt::kFracX), W, status, kFlag);
   if ((m.flags & kClampLowEnable) && d_new < lo) d_new = lo;

@@ -118,7 +118,9 @@ module rheo_core #(
   logic clear_q;                  // status: clear after reading
   logic [IdxCountW-1:0] row_q;    // edge row / particle row of the passes
   logic [IdxCountW-1:0] base_q;   // first particle index of the particle row
-  logic [4:0] drain_q;
+  // Wide enough for the longer of the two drains (they follow the module latencies).
+  localparam int DrainW = $clog2((TemDrain > MpmDrain ? TemDrain : MpmDrain) + 1);
+  logic [DrainW-1:0] drain_q;
   logic [W-1:0] out_data_q;
   logic out_valid_q, out_last_q;
   logic signed [PlateAccW-1:0] plate_acc_q;
@@ -745,7 +747,7 @@ module rheo_core #(
         StTem: begin
           if (row_q + 24'd1 >= edge_rows_q) begin
             row_q <= '0;
-            drain_q <= 5'(TemDrain - 1);
+            drain_q <= DrainW'(TemDrain - 1);
             state_q <= StTemDrain;
           end else begin
             row_q <= row_q + 24'd1;
@@ -754,12 +756,12 @@ module rheo_core #(
         StTemDrain: begin
           base_q <= '0;
           if (drain_q == 0) state_q <= StMpm;
-          else drain_q <= drain_q - 5'd1;
+          else drain_q <= drain_q - 1'b1;
         end
         StMpm: begin
           if (base_q + 24'(Lanes) >= num_particles_q) begin
             row_q <= '0;
-            drain_q <= 5'(MpmDrain - 1);
+            drain_q <= DrainW'(MpmDrain - 1);
             state_q <= StMpmDrain;
           end else begin
             row_q <= row_q + 24'd1;
@@ -776,7 +778,7 @@ module rheo_core #(
             step_count_q <= step_count_q + 32'd1;
             state_q <= StForceOut;
           end else begin
-            drain_q <= drain_q - 5'd1;
+            drain_q <= drain_q - 1'b1;
           end
         end
         StForceOut: begin

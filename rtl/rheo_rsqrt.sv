@@ -1,84 +1,124 @@
-// Reciprocal square root of an unsigned squared length, fully pipelined (one input per
-// clock). l2 is normalised to M * 4^k with M in [2^30, 2^32) (m = M / 2^30 in [1, 4)),
-// a 7-bit-addressed seed ROM gives y0 ~ 1/sqrt(m) in Q1.17, and RsqrtIterations
-// Newton-Raphson steps y <- y (3 - m y^2) / 2 refine it in Q2.30 (3 multiplier stages
-// each). Bits of l2 below the 32-bit mantissa are truncated. Relative error of y after
-// two steps: below 2^-26 over [1, 4) (tests/hw/rsqrt_test.cpp).
-// Latency: 2 + 3 * RsqrtIterations clocks. Mirrors rheo::hls::rsqrt_l2.
+// Reciprocal square root of the TEM's normalised squared length, fully pipelined (one
+// input per clock), every product with B-bit operands (one MULT18X18 for B = 18).
+// l2n (an exact sum of three squared B-bit mantissas) = m 2^(2k + parity) with m in [1, 2)
+// rounded to a Q1.(B-2) operand; a 1024-entry seed ROM indexed by {parity, 9 fraction bits
+// of m} gives y0 ~ 1/sqrt(m 2^parity) in Q0.17 (relative error <= 2^-11), and one
+// Newton-Raphson step y = y0 + y0 (1 - m 2^parity y0^2) / 2 refines it in Q0.(B-1):
+//   m y0 (rounded to an operand), m y0^2, eps = 1 - m 2^parity y0^2 (an operand with 8
+//   more fractional bits than y), y0 eps.
+// Measured relative error of y over every m and parity: below 1.2e-5 (2^-16.4;
+// tests/hw/rsqrt_test.cpp).
+// Stages (latency 11): 1 leading one, 2-3 m (shift, round), 4 seed ROM, 5 m y0,
+// 6 round, 7 m y0^2, 8 eps, 9 eps operand, 10 y0 eps, 11 y. Multipliers: 3.
+// Mirrors rheo::hls::rsqrt_l2 / rsqrt_mantissa.
 module rheo_rsqrt #(
-  parameter int L2W = 68  // width of the unsigned squared length
+  parameter int B = 18,                 // operand width (rheo_consts_pkg::OperandBits)
+  localparam int L2W = 2 * B            // l2n < 3 * 2^(2B-2) < 2^(2B)
 ) (
-  input  logic           clk_i,
-  input  logic [L2W-1:0] l2_i,          // squared length (any binary point)
-  output logic [31:0]    mant_o,        // M
-  output logic [31:0]    y_o,           // Y ~ 2^30 / sqrt(M / 2^30)
-  output logic signed [7:0] k_o,        // l2 = M * 4^k
-  output logic           degenerate_o   // l2 == 0
+  input  logic                 clk_i,
+  input  logic                 rst_ni,        // delay-line pointers only
+  input  logic [L2W-1:0]       l2_i,          // l2n (unsigned)
+  output logic signed [B-1:0]  mant_o,        // m, Q1.(B-2)
+  output logic signed [B-1:0]  y_o,           // y, Q0.(B-1), 0 when degenerate
+  output logic                 parity_o,      // l2n = m 2^(2k + parity)
+  output logic [5:0]           k_o,
+  output logic                 degenerate_o   // l2n == 0
 );
-  localparam int WideW = rheo_consts_pkg::WideW;
-  localparam int Iter = rheo_consts_pkg::RsqrtIterations;
-  localparam int Frac = rheo_consts_pkg::RsqrtFrac;
   localparam int IdxW = rheo_consts_pkg::RsqrtIndexBits;
   localparam int SeedW = rheo_consts_pkg::RsqrtSeedBits;
-  // Stages: 0 normalise, 1 seed, then 3 per iteration.
-  localparam int Stages = 2 + 3 * Iter;
+  localparam int EpsFrac = B - 1 + rheo_consts_pkg::RsqrtEpsExtraFrac;
+  localparam int PW = 2 * B;  // product width
 
-  // ---- stage 0: normalisation (leading-one detection) ----
-  logic [7:0] n;
-  logic signed [8:0] two_k;
-  logic [L2W-1:0] l2_norm;
+  if (rheo_consts_pkg::RsqrtIterations != 1) begin : g_iter_check
+    $error("rheo_rsqrt implements one Newton-Raphson step");
+  end
+
+  // ---- stage 1: n = bit length of l2n ----
+  // Leading one in parallel (bit b is it iff no higher bit is set), n an OR of the
+  // candidates' constants: a balanced AND/OR tree rather than a priority multiplexer chain.
+  logic [5:0] n_w;
+  logic [L2W-1:0] higher;  // higher[b]: a bit above b is set
   always_comb begin
-    n = '0;
-    for (int b = 0; b < L2W; b++) begin
-      if (l2_i[b]) n = 8'(b + 1);
-    end
-    two_k = n[0] ? ($signed({1'b0, n}) - 9'sd31) : ($signed({1'b0, n}) - 9'sd32);
-    if (two_k >= 0) l2_norm = l2_i >> two_k;
-    else l2_norm = l2_i << (-two_k);
+    higher[L2W-1] = 1'b0;
+    for (int b = L2W - 2; b >= 0; b--) higher[b] = higher[b+1] | l2_i[b+1];
+    n_w = '0;
+    for (int b = 0; b < L2W; b++) n_w = n_w | ((l2_i[b] & ~higher[b]) ? 6'(b + 1) : 6'd0);
   end
-
-  logic [31:0] mant_q [Stages];
-  logic [31:0] y_q [Stages];
-  logic signed [WideW-1:0] tmp_q [Stages];  // y^2, then 3 - m y^2, within an iteration
-  logic signed [7:0] k_q [Stages];
-  logic deg_q [Stages];
-
+  logic [L2W-1:0] l2_1_q;
+  logic [5:0] n_1_q;
   always_ff @(posedge clk_i) begin
-    mant_q[0] <= l2_norm[31:0];
-    k_q[0] <= (n == 0) ? 8'sd0 : 8'(two_k >>> 1);
-    deg_q[0] <= (n == 0);
-    y_q[0] <= '0;
-    tmp_q[0] <= '0;
-    // stage 1: seed ROM
-    mant_q[1] <= mant_q[0];
-    k_q[1] <= k_q[0];
-    deg_q[1] <= deg_q[0];
-    y_q[1] <= 32'(rheo_consts_pkg::rsqrt_seed(mant_q[0][31 -: IdxW])) << (Frac - (SeedW - 1));
-    tmp_q[1] <= '0;
+    l2_1_q <= l2_i;
+    n_1_q <= n_w;
   end
 
-  // Newton-Raphson iterations: stage a y^2, stage b 3 - m y^2, stage c y (3 - m y^2) / 2.
+  // ---- stages 2-3: m = l2n 2^-(n - (B-1)), rounded, held below 2^(B-1) ----
+  logic signed [B-1:0] m_3;
+  logic unused_m_clip;
+  // s = n - (B-1) >= -(B-1): biased by MaxLeft = B - 1 the shift amount is n itself
+  rheo_round_shift #(.InW(L2W + 1), .OutW(B), .ShiftW(6), .MaxLeft(B - 1)) u_m (
+    .clk_i (clk_i),
+    .v_i   ($signed({1'b0, l2_1_q})),
+    .sb_i  (n_1_q),
+    .out_o (m_3),
+    .clip_o(unused_m_clip)
+  );
+  // parity and k of n - 1 (0 for l2n == 0), delayed to stage 3
+  logic [6:0] pk_1, pk_3;  // {degenerate, k, parity}
+  always_comb begin
+    if (n_1_q == 0) pk_1 = 7'b1_00000_0;
+    else pk_1 = {1'b0, 5'((n_1_q - 6'd1) >> 1), n_1_q[0] ^ 1'b1};
+  end
+  rheo_delay #(.W(7), .N(2)) u_pk_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(pk_1), .q_o(pk_3));
+
+  // ---- stage 4: seed ROM ----
+  logic signed [B-1:0] m_q [4:9];
+  logic [6:0] pk_q [4:11];
+  logic signed [B-1:0] y0_q [4:10];
   always_ff @(posedge clk_i) begin
-    for (int it = 0; it < Iter; it++) begin
-      for (int j = 0; j < 3; j++) begin
-        mant_q[2+3*it+j] <= mant_q[1+3*it+j];
-        k_q[2+3*it+j] <= k_q[1+3*it+j];
-        deg_q[2+3*it+j] <= deg_q[1+3*it+j];
-      end
-      y_q[2+3*it] <= y_q[1+3*it];
-      tmp_q[2+3*it] <= rheo_consts_pkg::round_shift(
-          WideW'($signed({1'b0, y_q[1+3*it]})) * WideW'($signed({1'b0, y_q[1+3*it]})), Frac);
-      y_q[3+3*it] <= y_q[2+3*it];
-      tmp_q[3+3*it] <= (WideW'(3) <<< Frac) - rheo_consts_pkg::round_shift(
-          WideW'($signed({1'b0, mant_q[2+3*it]})) * tmp_q[2+3*it], Frac);
-      y_q[4+3*it] <= 32'(rheo_consts_pkg::round_shift(
-          WideW'($signed({1'b0, y_q[3+3*it]})) * tmp_q[3+3*it], Frac + 1));
-      tmp_q[4+3*it] <= '0;
-    end
+    m_q[4] <= m_3;
+    pk_q[4] <= pk_3;
+    y0_q[4] <= B'(rheo_consts_pkg::rsqrt_seed({pk_3[0], m_3[B-3 -: IdxW-1]})) <<< (B - 1 - SeedW);
+    for (int s = 5; s <= 9; s++) m_q[s] <= m_q[s-1];
+    for (int s = 5; s <= 11; s++) pk_q[s] <= pk_q[s-1];
+    for (int s = 5; s <= 10; s++) y0_q[s] <= y0_q[s-1];
   end
 
-  assign mant_o = mant_q[Stages-1];
-  assign y_o = y_q[Stages-1];
-  assign k_o = k_q[Stages-1];
-  assign degenerate_o = deg_q[Stages-1];
+  // ---- stages 5-11: one Newton-Raphson step ----
+  logic signed [PW-1:0] my_prod_q, my2_q, corr_q;
+  logic signed [B-1:0] my_q, eps_q, y_q;
+  logic signed [PW+1:0] eps_wide_q;
+  logic signed [PW+1:0] eps_round_w;
+  logic signed [PW+EpsFrac:0] y_new_w;
+  logic eps_fits, y_fits;
+  always_comb begin
+    eps_round_w = (eps_wide_q + ((PW+2)'(1) <<< (2 * B - 4 - EpsFrac))) >>> (2 * B - 3 - EpsFrac);
+    // y0 + round(y0 eps 2^-(EpsFrac+1)) as one sum: y0 2^(EpsFrac+1) + y0 eps + half
+    y_new_w = ((PW+EpsFrac+1)'(y0_q[10]) <<< (EpsFrac + 1)) + (PW+EpsFrac+1)'(corr_q) +
+              ((PW+EpsFrac+1)'(1) <<< EpsFrac);
+    y_new_w = y_new_w >>> (EpsFrac + 1);
+    // range checks on the bits above the operand (no comparator chains)
+    eps_fits = (&eps_round_w[PW+1:B-1]) | ~(|eps_round_w[PW+1:B-1]);
+    y_fits = ~(|y_new_w[PW+EpsFrac:B-1]);  // y_new > 0
+  end
+  always_ff @(posedge clk_i) begin
+    my_prod_q <= m_q[4] * y0_q[4];                                   // stage 5
+    my_q <= B'((my_prod_q + (PW'(1) <<< (B - 2))) >>> (B - 1));      // stage 6
+    my2_q <= my_q * y0_q[6];                                         // stage 7
+    eps_wide_q <= ((PW+2)'(1) <<< (2 * B - 3)) -                     // stage 8
+                  ((PW+2)'(my2_q) <<< pk_q[7][0]);
+    if (eps_fits) eps_q <= eps_round_w[B-1:0];                       // stage 9
+    else eps_q <= {eps_round_w[PW+1], {(B-1){~eps_round_w[PW+1]}}};
+    corr_q <= y0_q[9] * eps_q;                                       // stage 10
+    if (pk_q[10][6]) y_q <= '0;                                      // stage 11
+    else if (!y_fits) y_q <= {1'b0, {(B-1){1'b1}}};
+    else y_q <= y_new_w[B-1:0];
+  end
+
+  logic signed [B-1:0] m_11;
+  rheo_delay #(.W(B), .N(2)) u_m_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m_q[9]), .q_o(m_11));
+  assign mant_o = m_11;
+  assign y_o = y_q;
+  assign parity_o = pk_q[11][0];
+  assign k_o = {1'b0, pk_q[11][5:1]};
+  assign degenerate_o = pk_q[11][6];
 endmodule

@@ -5,16 +5,31 @@
 //   r = x_e - x_s, dp = p_e - p_s, ds = d - L, y = rsqrt(r.r), l = r.r y, u = r y
 //   ldot = u.dp, dd = beta ldot - alpha ds, T = kt ds + ct ldot
 //   d' = clamp(d + dd, a_min l, a_max l)
+// State words are W bits; every multiplier operand is B = OperandBits (18) bits, so each
+// product is one MULT18X18: r and dp are block-normalised (one exponent per vector, the
+// largest component sets it), ds, ldot, l, T (and m) are normalised words, u is a Q1.16
+// operand, and each product's shift back to its format includes the operands' exponents.
 // Rounding is to nearest at every narrowing, results saturate and raise sat_o.
-// Latency: 18 clocks from valid_i to valid_o (1 input register, 3 stages to l2,
-// 8 rsqrt stages, 6 stages to the clamped result). Mirrors rheo::hls::tem_edge.
-// Multipliers: 3 (r.r) + 3 per Newton step x 2 + 1 (l) + 3 (u) + 3 (ldot)
-// + 6 (coefficients) + 3 (T u) = 25.
+// Latency: 40 clocks from valid_i to valid_o (rheo_consts_pkg::TemLatency). Register
+// index t of each value (t = 0: input register):
+//    1 r, dp, ds          4 r^, dp^ (rheo_normalize)   5 r^ squared   7 l2n = r^.r^
+//   18 y (rheo_rsqrt)    19 m y, r^ y                 21 l, u         22 u dp^
+//   24 u.dp^             26 ldot                      29 ldot^, ds^, l^ (, m^)
+//   30 coefficient products                           32 scaled       33 dd, T (, dm)
+//   34 dd >> 4 (, dm)    35 d + dd (, m + dm)         36 clamp, T^    37 T^ u
+//   39 f (output registers).
+// Each stage holds one multiplier (registered inputs and output), or one carry chain (at
+// most ~45 bits; rounding chains span only the output bits) with a few LUT levels, or a
+// barrel shift.
+// Long delay lines (coefficients, d, operands waiting for y) are distributed RAM.
+// Multipliers (all B x B): 3 (r.r) + 3 (rsqrt) + 1 (l) + 3 (u) + 3 (ldot)
+// + 6 (coefficients) + 3 (T u) = 22.
 // MaxwellArm = 1 adds the parallel Maxwell arm (rheo::hls::tem_edge<Fmt, true>): the
 // edge carries the arm's extension m (m_i -> m_o) and two more coefficients (gamma, k2t):
-//   stage 14: m gamma, k2t m;  stage 15: dm = ldot - m gamma, T = kt ds + ct ldot + k2t m;
-//   stage 16: m' = m + dm.  Same latency; +2 multipliers (27). MaxwellArm = 0 builds
-// exactly the baseline TEM (m_i ignored, m_o = 0).
+//   t 30: m^ gamma, k2t m^;  t 33: dm = ldot - m gamma, T = kt ds + ct ldot + k2t m;
+//   t 35: m' = m + dm.  Same latency; +2 multipliers (24). MaxwellArm = 0 leaves m_i
+// unused and m_o = 0.
+// Mirrors rheo::hls::tem_edge.
 module rheo_tem #(
   parameter int W = 32,      // state word width (rheo_consts_pkg::Width)
   parameter int CoefW = 24,  // packed coefficient {shift, mantissa}
@@ -43,127 +58,49 @@ module rheo_tem #(
   output logic              sat_o,      // a result of this edge saturated
   output logic              degenerate_o// this edge has zero length
 );
-  localparam int WideW = rheo_consts_pkg::WideW;
+  localparam int B = rheo_consts_pkg::OperandBits;
+  localparam int PW = 2 * B;  // product width
   localparam int FracX = rheo_consts_pkg::FracX;
   localparam int FracP = rheo_consts_pkg::FracP;
   localparam int FracU = rheo_consts_pkg::FracU;
+  localparam int CoefMantBits = rheo_consts_pkg::CoefMantBits;
+  localparam int CoefShiftBias = rheo_consts_pkg::CoefShiftBias;
   localparam int Last = rheo_consts_pkg::TemLatency - 1;  // index of the output stage
+  localparam int EW = 6;  // normalisation exponents (< W - B + 2)
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
+  localparam int CGamma = 6, CK2t = 7;
+  // Largest left shift of a coefficient product: the host keeps shift + extra >= 0, the
+  // operand's exponent is at most W - (B - 1).
+  localparam int CoefMaxLeft = W - (B - 1);
 
   if (W != rheo_consts_pkg::Width) begin : g_width_check
     $error("rheo_tem: W must equal rheo_consts_pkg::Width");
   end
-
-  function automatic logic signed [WideW-1:0] wide(input logic signed [W-1:0] v);
-    wide = WideW'(v);
-  endfunction
-  function automatic logic clip(input logic signed [WideW-1:0] v);
-    clip = rheo_consts_pkg::clips(v, W);
-  endfunction
-  function automatic logic signed [W-1:0] sat(input logic signed [WideW-1:0] v);
-    sat = rheo_consts_pkg::sat_word(v);
-  endfunction
-
-  // ---- pipeline registers, indexed by stage ----
-  logic v_q [Last+1];
-  logic [IdxW-1:0] idx_q [Last+1];
-  logic sat_q [Last+1];
-  logic signed [W-1:0] xs_q [3], xe_q [3], ps_q [3], pe_q [3], len_q;
-  logic signed [W-1:0] d_q [17];
-  logic [CoefW-1:0] coef_q [15][NumCoef];
-  logic [1:0] mflags_q [Last+1];
-  logic signed [W-1:0] r_q [1:12][3];
-  logic signed [W-1:0] dp_q [1:13][3];
-  logic signed [W-1:0] ds_q [1:14];
-  logic [63:0] sq_q [3];
-  logic [67:0] l2_q;
-  logic deg_q [12:Last];
-  logic signed [W-1:0] l_q [12:14];
-  logic signed [31:0] u_q [12:16][3];
-  logic signed [W-1:0] ldot_q [13:14];
-  logic signed [W-1:0] dd_beta_q, dd_alpha_q, t_spring_q, t_damper_q;
-  logic signed [W-1:0] lo_q [14:16], hi_q [14:16];
-  logic signed [W-1:0] dd_q, tension_q;
-  logic signed [W-1:0] f_q [3], fout_q [3], dnew_q, dout_q;
-  // Stage 15's tension sum and its clip flag: the baseline's, or with the Maxwell arm the
-  // one that includes the arm's force (wires from g_arm / g_no_arm, so MaxwellArm = 0
-  // leaves the baseline netlist as it was). sat_arm: the arm's own clip flags.
-  logic signed [WideW-1:0] tension_sel_w;
-  logic clip_tension15, sat_arm;
-
-  logic [31:0] rs_mant, rs_y;
-  logic signed [7:0] rs_k;
-  logic rs_deg;
-  rheo_rsqrt #(.L2W(68)) u_rsqrt (
-    .clk_i       (clk_i),
-    .l2_i        (l2_q),
-    .mant_o      (rs_mant),
-    .y_o         (rs_y),
-    .k_o         (rs_k),
-    .degenerate_o(rs_deg)
-  );
-
-  // ---- combinational stage logic ----
-  logic signed [WideW-1:0] r_w [3], dp_w [3], ds_w, l_w, u_w [3], ldot_w;
-  logic signed [WideW-1:0] dd_beta_w, dd_alpha_w, t_spring_w, t_damper_w, lo_w, hi_w;
-  logic signed [WideW-1:0] dd_w, tension_w, f_w [3], dnew_w;
-  logic signed [W-1:0] dclamp;
-  logic clip1, clip12, clip13, clip14, clip15, clip16;
-  always_comb begin
-    clip1 = 1'b0;
-    for (int i = 0; i < 3; i++) begin
-      r_w[i] = wide(xe_q[i]) - wide(xs_q[i]);
-      dp_w[i] = wide(pe_q[i]) - wide(ps_q[i]);
-      clip1 = clip1 | clip(r_w[i]) | clip(dp_w[i]);
-    end
-    ds_w = wide(d_q[0]) - wide(len_q);
-    clip1 = clip1 | clip(ds_w);
-    // stage 12: l = M Y 2^(k-45), u = r Y 2^-(k+15)
-    l_w = rheo_consts_pkg::round_shift(WideW'($signed({1'b0, rs_mant})) * WideW'($signed({1'b0, rs_y})),
-                                      45 - 32'(rs_k));
-    clip12 = clip(l_w);
-    for (int i = 0; i < 3; i++) begin
-      u_w[i] = rheo_consts_pkg::round_shift(wide(r_q[11][i]) * WideW'($signed({1'b0, rs_y})),
-                                           32'(rs_k) + 15);
-      clip12 = clip12 | rheo_consts_pkg::clips(u_w[i], 32);
-    end
-    // stage 13: ldot = u . dp
-    ldot_w = rheo_consts_pkg::round_shift(
-        WideW'(u_q[12][0]) * wide(dp_q[12][0]) + WideW'(u_q[12][1]) * wide(dp_q[12][1]) +
-        WideW'(u_q[12][2]) * wide(dp_q[12][2]), FracU);
-    clip13 = clip(ldot_w);
-    // stage 14: the six coefficient products
-    dd_beta_w = rheo_consts_pkg::mul_coef_wide(ldot_q[13], coef_q[13][CBeta],
-                                              rheo_consts_pkg::ShiftBeta);
-    dd_alpha_w = rheo_consts_pkg::mul_coef_wide(ds_q[13], coef_q[13][CAlpha],
-                                               rheo_consts_pkg::ShiftAlpha);
-    t_spring_w = rheo_consts_pkg::mul_coef_wide(ds_q[13], coef_q[13][CKt],
-                                               rheo_consts_pkg::ShiftKt);
-    t_damper_w = rheo_consts_pkg::mul_coef_wide(ldot_q[13], coef_q[13][CCt],
-                                               rheo_consts_pkg::ShiftCt);
-    lo_w = rheo_consts_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmin], rheo_consts_pkg::ShiftClamp);
-    hi_w = rheo_consts_pkg::mul_coef_wide(l_q[13], coef_q[13][CAmax], rheo_consts_pkg::ShiftClamp);
-    clip14 = clip(dd_beta_w) | clip(dd_alpha_w) | clip(t_spring_w) | clip(t_damper_w) |
-             clip(lo_w) | clip(hi_w);
-    // stage 15: dd and T
-    dd_w = wide(dd_beta_q) - wide(dd_alpha_q);
-    tension_w = wide(t_spring_q) + wide(t_damper_q);
-    clip15 = clip(dd_w) | clip_tension15;
-    // stage 16: f = T u, d + dd
-    clip16 = 1'b0;
-    for (int i = 0; i < 3; i++) begin
-      f_w[i] = rheo_consts_pkg::round_shift(wide(tension_q) * WideW'(u_q[15][i]), FracU);
-      clip16 = clip16 | clip(f_w[i]);
-    end
-    dnew_w = wide(d_q[15]) + rheo_consts_pkg::round_shift(wide(dd_q), FracP - FracX);
-    clip16 = clip16 | clip(dnew_w);
-    // stage 17: length-ratio clamp
-    dclamp = dnew_q;
-    if (mflags_q[16][0] && dnew_q < lo_q[16]) dclamp = lo_q[16];
-    if (mflags_q[16][1] && dnew_q > hi_q[16]) dclamp = hi_q[16];
+  if (Last != 39) begin : g_latency_check
+    $error("rheo_tem: the stage schedule below is for TemLatency = 40");
   end
 
-  // ---- valid pipeline (reset) ----
+  // Saturation of a (W+1)-bit sum to W bits: it clips iff the top two bits differ (a range
+  // check without a comparator chain).
+  function automatic logic clip(input logic signed [W:0] v);
+    clip = v[W] ^ v[W-1];
+  endfunction
+  function automatic logic signed [W-1:0] sat(input logic signed [W:0] v);
+    if (clip(v)) sat = {v[W], {(W-1){~v[W]}}};
+    else sat = v[W-1:0];
+  endfunction
+  // Three-term sum (the arm's tension) in W + 2 bits: fits iff the top three bits agree.
+  function automatic logic clip2(input logic [2:0] top);  // bits W+1..W-1
+    clip2 = !((&top) || !(|top));
+  endfunction
+
+  // ---- control pipeline: valid (reset), index, material flags, saturation ----
+  logic v_q [Last+1];
+  logic [IdxW-1:0] idx0_q, idx20, idx_out;
+  logic [1:0] mflags0_q, mflags35;
+  logic sat_q [Last+1];
+  logic flag_at [Last+1];  // clip flags visible in the registers of stage t
+
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       for (int s = 0; s <= Last; s++) v_q[s] <= 1'b0;
@@ -173,134 +110,320 @@ module rheo_tem #(
     end
   end
 
-  // ---- datapath registers (no reset: qualified by v_q) ----
+  // ---- stage 0: input registers ----
+  logic signed [W-1:0] xs_q [3], xe_q [3], ps_q [3], pe_q [3], d0_q, len_q, m0_q;
+  logic [CoefW-1:0] coef0_q [NumCoef];
   always_ff @(posedge clk_i) begin
-    // stage 0: input register
-    idx_q[0] <= idx_i;
-    sat_q[0] <= 1'b0;
+    idx0_q <= idx_i;
+    mflags0_q <= mat_flags_i;
     for (int i = 0; i < 3; i++) begin
       xs_q[i] <= xs_i[i*W +: W];
       xe_q[i] <= xe_i[i*W +: W];
       ps_q[i] <= ps_i[i*W +: W];
       pe_q[i] <= pe_i[i*W +: W];
     end
-    d_q[0] <= d_i;
+    d0_q <= d_i;
     len_q <= len_i;
-    for (int c = 0; c < NumCoef; c++) coef_q[0][c] <= coef_i[c*CoefW +: CoefW];
-    mflags_q[0] <= mat_flags_i;
-    // pass-through of everything carried along
-    for (int s = 1; s <= Last; s++) begin
-      idx_q[s] <= idx_q[s-1];
-      sat_q[s] <= sat_q[s-1];
-      mflags_q[s] <= mflags_q[s-1];
-    end
-    for (int s = 1; s < 17; s++) d_q[s] <= d_q[s-1];
-    for (int s = 1; s < 15; s++) coef_q[s] <= coef_q[s-1];
-    for (int s = 2; s <= 12; s++) r_q[s] <= r_q[s-1];
-    for (int s = 2; s <= 13; s++) dp_q[s] <= dp_q[s-1];
-    for (int s = 2; s <= 14; s++) ds_q[s] <= ds_q[s-1];
-    for (int s = 13; s <= Last; s++) deg_q[s] <= deg_q[s-1];
-    for (int s = 13; s <= 16; s++) u_q[s] <= u_q[s-1];
-    l_q[13] <= l_q[12];
-    l_q[14] <= l_q[13];
-    ldot_q[14] <= ldot_q[13];
-    lo_q[15] <= lo_q[14];
-    lo_q[16] <= lo_q[15];
-    hi_q[15] <= hi_q[14];
-    hi_q[16] <= hi_q[15];
-    // stage 1: differences
+    m0_q <= m_i;
+    for (int c = 0; c < NumCoef; c++) coef0_q[c] <= coef_i[c*CoefW +: CoefW];
+  end
+  rheo_delay #(.W(IdxW), .N(20)) u_idx_d1 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(idx0_q), .q_o(idx20));
+  rheo_delay #(.W(IdxW), .N(Last - 20)) u_idx_d2 (
+    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(idx20), .q_o(idx_out));
+  logic [1:0] mflags17;
+  rheo_delay #(.W(2), .N(17)) u_mflags_d1 (
+    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags0_q), .q_o(mflags17));
+  rheo_delay #(.W(2), .N(18)) u_mflags_d2 (
+    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags17), .q_o(mflags35));
+
+  // ---- stage 1: differences ----
+  logic signed [W:0] r_w [3], dp_w [3], ds_w;
+  logic signed [W-1:0] r1_q [3], dp1_q [3], ds1_q;
+  logic clip1_q;
+  always_comb begin
     for (int i = 0; i < 3; i++) begin
-      r_q[1][i] <= sat(r_w[i]);
-      dp_q[1][i] <= sat(dp_w[i]);
+      r_w[i] = (W+1)'(xe_q[i]) - (W+1)'(xs_q[i]);
+      dp_w[i] = (W+1)'(pe_q[i]) - (W+1)'(ps_q[i]);
     end
-    ds_q[1] <= sat(ds_w);
-    sat_q[1] <= clip1;
-    // stage 2: squares; stage 3: l2 (stages 4..11 in the rsqrt unit)
-    for (int i = 0; i < 3; i++) sq_q[i] <= 64'(r_q[1][i] * r_q[1][i]);
-    l2_q <= 68'(sq_q[0]) + 68'(sq_q[1]) + 68'(sq_q[2]);
-    // stage 12
-    deg_q[12] <= rs_deg;
-    l_q[12] <= sat(l_w);
-    for (int i = 0; i < 3; i++) u_q[12][i] <= rheo_consts_pkg::sat_word(u_w[i]);
-    sat_q[12] <= sat_q[11] | clip12;
-    // stage 13
-    ldot_q[13] <= sat(ldot_w);
-    sat_q[13] <= sat_q[12] | clip13;
-    // stage 14
-    dd_beta_q <= sat(dd_beta_w);
-    dd_alpha_q <= sat(dd_alpha_w);
-    t_spring_q <= sat(t_spring_w);
-    t_damper_q <= sat(t_damper_w);
-    lo_q[14] <= sat(lo_w);
-    hi_q[14] <= sat(hi_w);
-    sat_q[14] <= sat_q[13] | clip14;
-    // stage 15
-    dd_q <= sat(dd_w);
-    tension_q <= sat(tension_sel_w);
-    sat_q[15] <= sat_q[14] | clip15;
-    // stage 16
-    for (int i = 0; i < 3; i++) f_q[i] <= sat(f_w[i]);
-    dnew_q <= sat(dnew_w);
-    sat_q[16] <= sat_q[15] | clip16;
-    // stage 17
-    dout_q <= dclamp;
-    for (int i = 0; i < 3; i++) fout_q[i] <= f_q[i];
+    ds_w = (W+1)'(d0_q) - (W+1)'(len_q);
+  end
+  always_ff @(posedge clk_i) begin
+    clip1_q <= clip(ds_w) | clip(r_w[0]) | clip(r_w[1]) | clip(r_w[2]) | clip(dp_w[0]) |
+               clip(dp_w[1]) | clip(dp_w[2]);
+    for (int i = 0; i < 3; i++) begin
+      r1_q[i] <= sat(r_w[i]);
+      dp1_q[i] <= sat(dp_w[i]);
+    end
+    ds1_q <= sat(ds_w);
   end
 
-  // ---- parallel Maxwell arm ----
+  // ---- stages 2-4: r and dp as block-normalised operands ----
+  logic [3*B-1:0] rn4_flat, dpn4_flat;
+  logic signed [B-1:0] rn4 [3];
+  logic [EW-1:0] er4, edp4;
+  rheo_normalize #(.N(3), .InW(W), .B(B), .ShiftW(EW)) u_norm_r (
+    .clk_i(clk_i), .v_i({r1_q[2], r1_q[1], r1_q[0]}), .mant_o(rn4_flat), .shift_o(er4));
+  rheo_normalize #(.N(3), .InW(W), .B(B), .ShiftW(EW)) u_norm_dp (
+    .clk_i(clk_i), .v_i({dp1_q[2], dp1_q[1], dp1_q[0]}), .mant_o(dpn4_flat), .shift_o(edp4));
+  always_comb for (int i = 0; i < 3; i++) rn4[i] = rn4_flat[i*B +: B];
+
+  // ---- stages 5-7: l2n = r^.r^ (exact) ----
+  logic signed [PW-1:0] sq5_q [3];
+  logic [PW-1:0] s01_6_q, sq2_6_q, l2n7_q;
+  always_ff @(posedge clk_i) begin
+    for (int i = 0; i < 3; i++) sq5_q[i] <= rn4[i] * rn4[i];
+    s01_6_q <= sq5_q[0] + sq5_q[1];
+    sq2_6_q <= sq5_q[2];
+    l2n7_q <= s01_6_q + sq2_6_q;
+  end
+
+  // ---- stages 8-18: y = 1/sqrt(l2n) ----
+  logic signed [B-1:0] rs_mant18, rs_y18;
+  logic rs_parity18, rs_deg18;
+  logic [5:0] rs_k18;
+  rheo_rsqrt #(.B(B)) u_rsqrt (
+    .clk_i       (clk_i),
+    .rst_ni      (rst_ni),
+    .l2_i        (l2n7_q),
+    .mant_o      (rs_mant18),
+    .y_o         (rs_y18),
+    .parity_o    (rs_parity18),
+    .k_o         (rs_k18),
+    .degenerate_o(rs_deg18)
+  );
+
+  // r^ and its exponent wait for y
+  logic [3*B-1:0] rn18_flat;
+  logic signed [B-1:0] rn18 [3];
+  logic [EW-1:0] er18;
+  rheo_delay #(.W(3*B), .N(14)) u_rn_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(rn4_flat), .q_o(rn18_flat));
+  rheo_delay #(.W(EW), .N(14)) u_er_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(er4), .q_o(er18));
+  always_comb for (int i = 0; i < 3; i++) rn18[i] = rn18_flat[i*B +: B];
+
+  // ---- stage 19: m y, r^ y; stages 20-21: l = m y 2^(er + parity + k - (2B-3)),
+  //      u = r^ y 2^-(k+1) ----
+  logic signed [PW-1:0] lprod19_q, uprod19_q [3];
+  logic [6:0] ls19_q, us19_q;
+  logic deg_q [19:Last];
+  always_ff @(posedge clk_i) begin
+    lprod19_q <= rs_mant18 * rs_y18;
+    for (int i = 0; i < 3; i++) uprod19_q[i] <= rn18[i] * rs_y18;
+    // both >= 0: er + parity + k <= 15 + 18 = 2B - 3 (l2n < 2^36 gives k <= 17)
+    ls19_q <= 7'(2 * B - 3) - 7'(er18) - 7'(rs_parity18) - 7'(rs_k18);
+    us19_q <= 7'(rs_k18) + 7'd1;
+    deg_q[19] <= rs_deg18;
+    for (int s = 20; s <= Last; s++) deg_q[s] <= deg_q[s-1];
+  end
+  logic signed [W-1:0] l21;
+  logic signed [B-1:0] u21 [3];
+  logic clip_l21, clip_u21 [3];
+  rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_l (
+    .clk_i(clk_i), .v_i(lprod19_q), .sb_i(ls19_q), .out_o(l21), .clip_o(clip_l21));
+  for (genvar i = 0; i < 3; i++) begin : g_u
+    rheo_round_shift #(.InW(PW), .OutW(B), .ShiftW(7), .MaxLeft(0)) u_u (
+      .clk_i(clk_i), .v_i(uprod19_q[i]), .sb_i(us19_q), .out_o(u21[i]), .clip_o(clip_u21[i]));
+  end
+
+  // ---- stages 22-26: ldot = u . dp^ 2^(edp - FracU) ----
+  logic [3*B-1:0] dpn21_flat;
+  logic [EW-1:0] edp23;
+  rheo_delay #(.W(3*B), .N(17)) u_dpn_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(dpn4_flat), .q_o(dpn21_flat));
+  rheo_delay #(.W(EW), .N(19)) u_edp_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(edp4), .q_o(edp23));
+  logic signed [PW-1:0] ldp22_q [3];
+  logic signed [PW:0] ls01_23_q, ldp2_23_q;
+  logic signed [PW+1:0] lacc24_q;
+  logic [6:0] lds24_q;
+  always_ff @(posedge clk_i) begin
+    for (int i = 0; i < 3; i++) ldp22_q[i] <= u21[i] * $signed(dpn21_flat[i*B +: B]);
+    ls01_23_q <= (PW+1)'(ldp22_q[0]) + (PW+1)'(ldp22_q[1]);
+    ldp2_23_q <= (PW+1)'(ldp22_q[2]);
+    lacc24_q <= (PW+2)'(ls01_23_q) + (PW+2)'(ldp2_23_q);
+    lds24_q <= 7'(FracU) - 7'(edp23);  // >= 1: edp <= W - (B-1) < FracU
+  end
+  logic signed [W-1:0] ldot26;
+  logic clip_ldot26;
+  rheo_round_shift #(.InW(PW+2), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_ldot (
+    .clk_i(clk_i), .v_i(lacc24_q), .sb_i(lds24_q), .out_o(ldot26), .clip_o(clip_ldot26));
+
+  // ---- stages 27-29: the coefficient operands ldot^, ds^, l^ (, m^) ----
+  logic signed [W-1:0] ds26, l26, m26;
+  rheo_delay #(.W(W), .N(25)) u_ds_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ds1_q), .q_o(ds26));
+  rheo_delay #(.W(W), .N(5)) u_l_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(l21), .q_o(l26));
+  localparam int NumOp = (MaxwellArm != 0) ? 4 : 3;
+  localparam int OpLdot = 0, OpDs = 1, OpL = 2, OpM = 3;
+  logic [W-1:0] op26 [NumOp];
+  logic [B-1:0] opn29 [NumOp];
+  logic [EW-1:0] ope29 [NumOp];
+  always_comb begin
+    op26[OpLdot] = ldot26;
+    op26[OpDs] = ds26;
+    op26[OpL] = l26;
+    if (MaxwellArm != 0) op26[NumOp-1] = m26;
+  end
+  for (genvar o = 0; o < NumOp; o++) begin : g_op
+    rheo_normalize #(.N(1), .InW(W), .B(B), .ShiftW(EW)) u_norm (
+      .clk_i(clk_i), .v_i(op26[o]), .mant_o(opn29[o]), .shift_o(ope29[o]));
+  end
+
+  // ---- stage 30: coefficient products; stages 31-32: shifted back ----
+  logic [CoefW-1:0] coef29 [NumCoef];
+  for (genvar c = 0; c < NumCoef; c++) begin : g_coef_d
+    rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
+  end
+  // operand of each coefficient and the extra shift of its format change
+  function automatic int coef_operand(input int c);
+    case (c)
+      CBeta, CCt: coef_operand = OpLdot;
+      CAlpha, CKt: coef_operand = OpDs;
+      CAmin, CAmax: coef_operand = OpL;
+      default: coef_operand = OpM;
+    endcase
+  endfunction
+  function automatic int coef_extra(input int c);
+    case (c)
+      CAlpha: coef_extra = rheo_consts_pkg::ShiftAlpha;
+      CBeta: coef_extra = rheo_consts_pkg::ShiftBeta;
+      CKt: coef_extra = rheo_consts_pkg::ShiftKt;
+      CCt: coef_extra = rheo_consts_pkg::ShiftCt;
+      CGamma: coef_extra = rheo_consts_pkg::ShiftGamma;
+      CK2t: coef_extra = rheo_consts_pkg::ShiftK2t;
+      default: coef_extra = rheo_consts_pkg::ShiftClamp;
+    endcase
+  endfunction
+  logic signed [PW-1:0] cprod30_q [NumCoef];
+  logic [6:0] cs30_q [NumCoef];
+  logic signed [W-1:0] cres32 [NumCoef];
+  logic cclip32 [NumCoef];
+  for (genvar c = 0; c < NumCoef; c++) begin : g_coef
+    always_ff @(posedge clk_i) begin
+      cprod30_q[c] <= $signed(opn29[coef_operand(c)]) * $signed(coef29[c][CoefMantBits-1:0]);
+      // shift + extra - e, biased by CoefMaxLeft (>= 0: the host keeps shift + extra >= 0)
+      cs30_q[c] <= 7'(coef29[c][CoefW-1:CoefMantBits]) + 7'(CoefMaxLeft - CoefShiftBias) +
+                   7'(coef_extra(c)) - 7'(ope29[coef_operand(c)]);
+    end
+    rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(CoefMaxLeft)) u_scale (
+      .clk_i(clk_i), .v_i(cprod30_q[c]), .sb_i(cs30_q[c]), .out_o(cres32[c]),
+      .clip_o(cclip32[c]));
+  end
+
+  // ---- stage 33: dd = beta ldot - alpha ds, T = kt ds + ct ldot (+ k2t m) ----
+  logic signed [W-1:0] dd33_q, t33_q;
+  logic clip33_q;
+  logic signed [W+1:0] t_w;
+  logic signed [W:0] dd_w;
+  logic [W+1:0] csa_a, csa_b, csa_c;
+  always_comb begin
+    dd_w = (W+1)'(cres32[CBeta]) - (W+1)'(cres32[CAlpha]);
+    csa_a = (W+2)'(cres32[CKt]);
+    csa_b = (W+2)'(cres32[CCt]);
+    csa_c = (MaxwellArm != 0) ? (W+2)'(cres32[NumCoef-1]) : '0;
+    // three terms through one carry chain: a carry-save step (one LUT level) first
+    t_w = $signed(csa_a ^ csa_b ^ csa_c) +
+          $signed({(csa_a[W:0] & csa_b[W:0]) | (csa_a[W:0] & csa_c[W:0]) |
+                   (csa_b[W:0] & csa_c[W:0]), 1'b0});
+  end
+  always_ff @(posedge clk_i) begin
+    dd33_q <= sat(dd_w);
+    if (clip2(t_w[W+1:W-1])) t33_q <= {t_w[W+1], {(W-1){~t_w[W+1]}}};
+    else t33_q <= t_w[W-1:0];
+    clip33_q <= clip(dd_w) | clip2(t_w[W+1:W-1]);
+  end
+
+  // ---- stages 34-36: T^ (operand of f) ----
+  logic signed [B-1:0] tn36;
+  logic [EW-1:0] et36;
+  rheo_normalize #(.N(1), .InW(W), .B(B), .ShiftW(EW)) u_norm_t (
+    .clk_i(clk_i), .v_i(t33_q), .mant_o(tn36), .shift_o(et36));
+
+  // ---- stages 34-36: d' = clamp(d + round(dd 2^-(FracP-FracX)), a_min l, a_max l) ----
+  logic signed [W-1:0] d34, lo35, hi35;
+  logic signed [W-1:0] d17;
+  rheo_delay #(.W(W), .N(17)) u_d_d1 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(d0_q), .q_o(d17));
+  rheo_delay #(.W(W), .N(17)) u_d_d2 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(d17), .q_o(d34));
+  rheo_delay #(.W(W), .N(3)) u_lo_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(cres32[CAmin]), .q_o(lo35));
+  rheo_delay #(.W(W), .N(3)) u_hi_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(cres32[CAmax]), .q_o(hi35));
+  logic signed [W-1:0] ddr34_q, dnew35_q, dclamp36_q;
+  logic signed [W:0] dnew_w;
+  logic clip35_q;
+  always_comb dnew_w = (W+1)'(d34) + (W+1)'(ddr34_q);
+  always_ff @(posedge clk_i) begin
+    ddr34_q <= W'(((W+1)'(dd33_q) + (W+1)'(1 << (FracP - FracX - 1))) >>> (FracP - FracX));
+    dnew35_q <= sat(dnew_w);
+    clip35_q <= clip(dnew_w);
+    dclamp36_q <= dnew35_q;
+    if (mflags35[0] && dnew35_q < lo35) dclamp36_q <= lo35;
+    if (mflags35[1] && dnew35_q > hi35) dclamp36_q <= hi35;
+  end
+
+  // ---- stage 37: T^ u; stages 38-39: f = T^ u 2^(et - FracU) ----
+  logic [3*B-1:0] u36_flat;
+  rheo_delay #(.W(3*B), .N(15)) u_u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i({u21[2], u21[1], u21[0]}), .q_o(u36_flat));
+  logic signed [PW-1:0] fprod37_q [3];
+  logic [6:0] fs37_q;
+  logic signed [W-1:0] f39 [3];
+  logic fclip39 [3];
+  always_ff @(posedge clk_i) begin
+    for (int i = 0; i < 3; i++) fprod37_q[i] <= tn36 * $signed(u36_flat[i*B +: B]);
+    fs37_q <= 7'(FracU) - 7'(et36);  // >= 1
+  end
+  for (genvar i = 0; i < 3; i++) begin : g_f
+    rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_f (
+      .clk_i(clk_i), .v_i(fprod37_q[i]), .sb_i(fs37_q), .out_o(f39[i]), .clip_o(fclip39[i]));
+  end
+  logic signed [W-1:0] d39;
+  rheo_delay #(.W(W), .N(3)) u_dout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(dclamp36_q), .q_o(d39));
+
+  // ---- parallel Maxwell arm: dm = ldot - m gamma, m' = m + round(dm 2^-(FracP-FracX)) ----
+  logic clip_arm_at33, clip_arm_at35;  // the arm's clip flags seen in stages 33 and 35
   if (MaxwellArm != 0) begin : g_arm
-    localparam int CGamma = 6, CK2t = 7;
-    logic signed [W-1:0] m_q [16];
-    logic signed [W-1:0] m_decay_q, t_arm_q, dm_q, mnew_q, mout_q;
-    logic signed [WideW-1:0] m_decay_w, t_arm_w, dm_w, mnew_w;
-    logic clip_arm14, clip_arm16;
-    logic sat_arm_q [14:Last];  // aligned with sat_q
-    // The baseline's two-term tension sum is replaced by the three-term one.
-    logic unused_tension_w;
-    assign unused_tension_w = ^tension_w;
+    logic signed [W-1:0] ldot32, m34, dm33_q, dmr34_q, mnew35_q;
+    logic signed [W:0] dm_w, mnew_w;
+    logic clip_dm33_q, clip_m35_q;
+    rheo_delay #(.W(W), .N(26)) u_m26_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m0_q), .q_o(m26));
+    rheo_delay #(.W(W), .N(8)) u_m34_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m26), .q_o(m34));
+    rheo_delay #(.W(W), .N(6)) u_ldot_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ldot26), .q_o(ldot32));
     always_comb begin
-      // stage 14: m gamma (X -> P) and k2t m (X -> F)
-      m_decay_w = rheo_consts_pkg::mul_coef_wide(m_q[13], coef_q[13][CGamma],
-                                                rheo_consts_pkg::ShiftGamma);
-      t_arm_w = rheo_consts_pkg::mul_coef_wide(m_q[13], coef_q[13][CK2t],
-                                              rheo_consts_pkg::ShiftK2t);
-      clip_arm14 = clip(m_decay_w) | clip(t_arm_w);
-      // stage 15: the arm's force joins T in one wide sum; dm = ldot - m gamma
-      tension_sel_w = wide(t_spring_q) + wide(t_damper_q) + wide(t_arm_q);
-      dm_w = wide(ldot_q[14]) - wide(m_decay_q);
-      clip_tension15 = clip(tension_sel_w) | clip(dm_w);
-      // stage 16: m + dm (P -> X)
-      mnew_w = wide(m_q[15]) + rheo_consts_pkg::round_shift(wide(dm_q), FracP - FracX);
-      clip_arm16 = clip(mnew_w);
+      dm_w = (W+1)'(ldot32) - (W+1)'(cres32[CGamma]);
+      mnew_w = (W+1)'(m34) + (W+1)'(dmr34_q);
     end
     always_ff @(posedge clk_i) begin
-      m_q[0] <= m_i;
-      for (int s = 1; s < 16; s++) m_q[s] <= m_q[s-1];
-      m_decay_q <= sat(m_decay_w);
-      t_arm_q <= sat(t_arm_w);
-      dm_q <= sat(dm_w);
-      mnew_q <= sat(mnew_w);
-      mout_q <= mnew_q;
-      sat_arm_q[14] <= clip_arm14;
-      sat_arm_q[15] <= sat_arm_q[14];
-      sat_arm_q[16] <= sat_arm_q[15] | clip_arm16;
-      sat_arm_q[Last] <= sat_arm_q[16];
+      dm33_q <= sat(dm_w);
+      clip_dm33_q <= clip(dm_w);
+      dmr34_q <= W'(((W+1)'(dm33_q) + (W+1)'(1 << (FracP - FracX - 1))) >>> (FracP - FracX));
+      mnew35_q <= sat(mnew_w);
+      clip_m35_q <= clip(mnew_w);
     end
-    assign m_o = mout_q;
-    assign sat_arm = sat_arm_q[Last];
+    rheo_delay #(.W(W), .N(4)) u_mout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(mnew35_q), .q_o(m_o));
+    assign clip_arm_at33 = clip_dm33_q;
+    assign clip_arm_at35 = clip_m35_q;
   end else begin : g_no_arm
-    logic unused_m_i;
-    assign unused_m_i = ^m_i;
-    assign tension_sel_w = tension_w;
-    assign clip_tension15 = clip(tension_w);
-    assign sat_arm = 1'b0;
+    logic unused_m;
+    assign unused_m = ^m0_q;
+    assign m26 = '0;
+    assign clip_arm_at33 = 1'b0;
+    assign clip_arm_at35 = 1'b0;
     assign m_o = '0;
   end
 
+  // ---- saturation flags: each clip joins the edge's flag in the stage where it is seen ----
+  always_comb begin
+    for (int s = 0; s <= Last; s++) flag_at[s] = 1'b0;
+    flag_at[1] = clip1_q;
+    flag_at[21] = clip_l21 | clip_u21[0] | clip_u21[1] | clip_u21[2];
+    flag_at[26] = clip_ldot26;
+    for (int c = 0; c < NumCoef; c++) flag_at[32] = flag_at[32] | cclip32[c];
+    flag_at[33] = clip33_q | clip_arm_at33;
+    flag_at[35] = clip35_q | clip_arm_at35;
+  end
+  always_ff @(posedge clk_i) begin
+    sat_q[0] <= 1'b0;
+    for (int s = 1; s <= Last; s++) sat_q[s] <= sat_q[s-1] | flag_at[s-1];
+  end
+
   assign valid_o = v_q[Last];
-  assign idx_o = idx_q[Last];
-  assign f_o = {fout_q[2], fout_q[1], fout_q[0]};
-  assign d_o = dout_q;
-  assign sat_o = v_q[Last] & (sat_q[Last] | sat_arm);
+  assign idx_o = idx_out;
+  assign f_o = {f39[2], f39[1], f39[0]};
+  assign d_o = d39;
+  assign sat_o = v_q[Last] & (sat_q[Last] | flag_at[Last] | fclip39[0] | fclip39[1] | fclip39[2]);
   assign degenerate_o = v_q[Last] & deg_q[Last];
 endmodule

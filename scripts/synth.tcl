@@ -5,7 +5,7 @@
 #   RHEO_TOP       top module (rheo_tem, rheo_mpm, the core top)
 #   RHEO_PARAMS    optional "Name=Value ..." overrides of the top's parameters
 #   RHEO_OUT       output prefix: writes $RHEO_OUT.stat.json, .ltp.txt, .cells.txt, .edif
-# Usage: RHEO_RTL_DIR=rtl RHEO_SOURCES="rheo_consts_pkg.sv rheo_rsqrt.sv rheo_tem.sv" \
+# Usage: RHEO_RTL_DIR=rtl RHEO_SOURCES="rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_tem.sv" \
 #        RHEO_TOP=rheo_tem RHEO_OUT=/tmp/tem yosys -q -c scripts/synth.tcl
 yosys -import
 

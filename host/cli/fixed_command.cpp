@@ -1,8 +1,10 @@
 // `rheo fixed --scenario NAME|FILE --steps N --out DIR`: fixed-point vs float vs double.
 // Runs the scenario's hardware model on the double reference, in float and on the bit-true
-// core model at the hardware format, narrower/wider formats, a sweep of fractional widths
-// and the hardware format with truncation; writes DIR/fixed.json, the plot data, a gnuplot
-// script and DIR/fixed.png.
+// core model at the hardware format (18-bit multiplier operands), narrower/wider formats
+// and a sweep of fractional widths (all with full-width operands, so the sweep measures
+// word resolution), the hardware format with truncation and the hardware format with
+// full-width operands (what the operand narrowing costs); writes DIR/fixed.json, the plot
+// data, a gnuplot script and DIR/fixed.png.
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -38,6 +40,9 @@ struct Options {
 constexpr int kHardwareFracX = hls::HardwareFormat::kFracX;
 constexpr int kNarrowFracX = hls::NarrowFormat::kFracX;
 constexpr int kWideFracX = hls::WideFormat::kFracX;
+constexpr int kHwOperandBits = hls::kHardwareOperandBits;
+
+bool full_width_operands(const json& b) { return b["operand_bits"] == b["width"]; }
 
 // Moves the bulky per-step series out of the JSON into a whitespace table for gnuplot.
 void write_series(const fs::path& file, const json& rows) {
@@ -95,11 +100,15 @@ void write_plot(const fs::path& dir, const json& result) {
 
 void run(const Options& opt) {
   const Scenario scenario = load_scenario(opt.scenario);
-  std::vector<fixedcmp::BackendSpec> specs = {{"float", 0, false},
-                                              {"fixed", kHardwareFracX, false},
-                                              {"fixed", kNarrowFracX, false},
-                                              {"fixed", kWideFracX, false},
-                                              {"fixed", kHardwareFracX, true}};
+  // The hardware format (18-bit operands), narrow and wide (full-width operands, like the
+  // whole sweep), the hardware format with truncation, and with full-width operands (what
+  // the operand narrowing costs; also the sweep's 27).
+  std::vector<fixedcmp::BackendSpec> specs = {{"float", 0, false, 0},
+                                              {"fixed", kHardwareFracX, false, kHwOperandBits},
+                                              {"fixed", kNarrowFracX, false, 0},
+                                              {"fixed", kWideFracX, false, 0},
+                                              {"fixed", kHardwareFracX, true, kHwOperandBits},
+                                              {"fixed", kHardwareFracX, false, 0}};
   if (opt.sweep) {
     for (int fx : fixedcmp::sweep_frac_x()) {
       if (fx != kHardwareFracX && fx != kNarrowFracX && fx != kWideFracX) {
@@ -132,7 +141,7 @@ void run(const Options& opt) {
   // format must meet it too (so a lucky narrow format does not count).
   std::map<int, bool> meets;
   for (const json& b : result["backends"]) {
-    if (b["kind"] != "fixed" || b["rounding"] != "nearest") continue;
+    if (b["kind"] != "fixed" || b["rounding"] != "nearest" || !full_width_operands(b)) continue;
     meets[b["frac_x"].get<int>()] = b["completed"].get<bool>() &&
                                     b["max_position_error_rel"].get<double>() <= kPositionBoundRel;
   }
@@ -157,7 +166,9 @@ void run(const Options& opt) {
   result["bound_over_steps"] = opt.steps;
 
   // Truncation ablation: the same hardware format, rounding to nearest vs truncation.
+  // Operand ablation: the hardware format with 18-bit vs full-width multiplier operands.
   json ablation = json::object();
+  json operand_ablation = json::object();
   for (const json& b : result["backends"]) {
     if (b["kind"] == "fixed" && b["frac_x"] == kHardwareFracX) {
       json rows = json::array();
@@ -166,10 +177,17 @@ void run(const Options& opt) {
                         {"max_position_error_rel", c["max_position_error_rel"]},
                         {"mean_z_offset_rel", c["mean_z_offset_rel"]}});
       }
-      ablation[b["rounding"].get<std::string>()] = rows;
+      if (b["operand_bits"] == kHwOperandBits) ablation[b["rounding"].get<std::string>()] = rows;
+      if (b["rounding"] == "nearest") {
+        json entry = {{"checkpoints", rows},
+                      {"max_position_error_rel", b["max_position_error_rel"]},
+                      {"plate_force_error_max_N", b["plate_force_error_max_N"]}};
+        operand_ablation["operand_bits_" + std::to_string(b["operand_bits"].get<int>())] = entry;
+      }
     }
   }
   result["truncation_ablation"] = ablation;
+  result["operand_ablation"] = operand_ablation;
 
   std::ofstream out(dir / "fixed.json");
   out << result.dump(2) << "\n";

@@ -140,11 +140,13 @@ void run(const Options& opt) {
     spec.label = label;
     if (label == "tem") {
       spec.top = "rheo_tem";
-      spec.sources = {"rheo_consts_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+      spec.sources = {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv",
+                      "rheo_tem.sv"};
     } else if (label == "tem_arm") {
       // The TEM with the parallel Maxwell arm (second_relaxation_time, issue 6).
       spec.top = "rheo_tem";
-      spec.sources = {"rheo_consts_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+      spec.sources = {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv",
+                      "rheo_tem.sv"};
       spec.params = {"MaxwellArm=1"};
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";

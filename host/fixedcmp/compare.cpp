@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 #include "hls/fixed_format.hpp"
 #include "hls/rheo_kernel.hpp"
@@ -20,10 +21,17 @@ using nlohmann::json;
 
 // The hardware layout (hls::HardwareFormat: Q5.27 / Q1.31 / Q12.20 in 32 bits) moved as a
 // whole to frac_x fractional bits of position: integer parts stay, so only resolution
-// changes across the sweep.
-template <int FracX, hls::Rounding R>
-using SweepFormat = hls::Format<FracX + 5, FracX, FracX + 4, FracX - 7, R>;
-static_assert(std::is_same_v<SweepFormat<27, hls::Rounding::kNearest>, hls::HardwareFormat>);
+// changes across the sweep. The sweep keeps full-width multiplier operands (no 18-bit
+// narrowing), so that it measures word resolution alone; the hardware format (18-bit
+// operands) is a separate backend at frac_x = 27, and the sweep's 27 is its ablation.
+template <int FracX, hls::Rounding R, int OperandBits = FracX + 5>
+using SweepFormat = hls::Format<FracX + 5, FracX, FracX + 4, FracX - 7, R, OperandBits>;
+static_assert(std::is_same_v<SweepFormat<27, hls::Rounding::kNearest, hls::kHardwareOperandBits>,
+                             hls::HardwareFormat>);
+static_assert(std::is_same_v<SweepFormat<27, hls::Rounding::kTruncate, hls::kHardwareOperandBits>,
+                             hls::HardwareTruncFormat>);
+static_assert(
+    std::is_same_v<SweepFormat<27, hls::Rounding::kNearest>, hls::HardwareFullOperandFormat>);
 static_assert(std::is_same_v<SweepFormat<19, hls::Rounding::kNearest>, hls::NarrowFormat>);
 static_assert(std::is_same_v<SweepFormat<35, hls::Rounding::kNearest>, hls::WideFormat>);
 
@@ -37,7 +45,8 @@ class FixedBackend final : public Backend {
   }
   std::string name() const override {
     return "fixed_q" + std::to_string(Fmt::kFracX) +
-           (Fmt::kRounding == hls::Rounding::kNearest ? "_nearest" : "_truncate");
+           (Fmt::kRounding == hls::Rounding::kNearest ? "_nearest" : "_truncate") +
+           (Fmt::kOperandBits < Fmt::kWidth ? "_op" + std::to_string(Fmt::kOperandBits) : "");
   }
   json describe() const override {
     return {{"kind", "fixed"},
@@ -46,6 +55,7 @@ class FixedBackend final : public Backend {
             {"frac_p", Fmt::kFracP},
             {"frac_f", Fmt::kFracF},
             {"rounding", Fmt::kRounding == hls::Rounding::kNearest ? "nearest" : "truncate"},
+            {"operand_bits", Fmt::kOperandBits},
             {"hardware_format", std::is_same_v<Fmt, hls::HardwareFormat>},
             {"length_unit_m", image_.units.length_m},
             {"force_unit_N", image_.units.force_N}};
@@ -91,21 +101,27 @@ class FloatBackend final : public Backend {
 
 using FixedFactory = std::unique_ptr<Backend> (*)(const Model&, const State&, double, int);
 
-template <int FracX, hls::Rounding R>
+template <class Fmt>
 std::unique_ptr<Backend> make_fixed(const Model& m, const State& s, double dt, int lanes) {
-  return std::make_unique<FixedBackend<SweepFormat<FracX, R>>>(m, s, dt, lanes);
+  return std::make_unique<FixedBackend<Fmt>>(m, s, dt, lanes);
 }
 
+// Key: (frac_x, truncate, operand_bits; 0 = full width).
+using FactoryKey = std::tuple<int, bool, int>;
+
 template <int... FracX>
-std::map<std::pair<int, bool>, FixedFactory> factories(std::integer_sequence<int, FracX...>) {
-  std::map<std::pair<int, bool>, FixedFactory> table;
-  ((table[{FracX, false}] = &make_fixed<FracX, hls::Rounding::kNearest>,
-    table[{FracX, true}] = &make_fixed<FracX, hls::Rounding::kTruncate>),
+std::map<FactoryKey, FixedFactory> factories(std::integer_sequence<int, FracX...>) {
+  std::map<FactoryKey, FixedFactory> table;
+  ((table[{FracX, false, 0}] = &make_fixed<SweepFormat<FracX, hls::Rounding::kNearest>>,
+    table[{FracX, true, 0}] = &make_fixed<SweepFormat<FracX, hls::Rounding::kTruncate>>),
    ...);
+  constexpr int kHw = hls::HardwareFormat::kFracX;
+  table[{kHw, false, hls::kHardwareOperandBits}] = &make_fixed<hls::HardwareFormat>;
+  table[{kHw, true, hls::kHardwareOperandBits}] = &make_fixed<hls::HardwareTruncFormat>;
   return table;
 }
 
-const std::map<std::pair<int, bool>, FixedFactory>& factory_table() {
+const std::map<FactoryKey, FixedFactory>& factory_table() {
   static const auto table =
       factories(std::integer_sequence<int, 15, 17, 19, 21, 23, 25, 27, 29, 31, 35, 39, 43>{});
   return table;
@@ -130,19 +146,24 @@ struct Tracker {
 std::vector<int> sweep_frac_x() {
   std::vector<int> v;
   for (const auto& [key, f] : factory_table()) {
-    if (!key.second) v.push_back(key.first);
+    if (!std::get<1>(key) && std::get<2>(key) == 0) v.push_back(std::get<0>(key));
   }
   return v;
 }
 
 std::unique_ptr<Backend> make_fixed_backend(const Model& hardware_model, const State& initial,
-                                            double dt, int frac_x, bool truncate, int lanes) {
-  const auto it = factory_table().find({frac_x, truncate});
+                                            double dt, int frac_x, bool truncate, int lanes,
+                                            int operand_bits) {
+  const auto it = factory_table().find({frac_x, truncate, operand_bits});
   if (it == factory_table().end()) {
     std::string list;
     for (int f : sweep_frac_x()) list += (list.empty() ? "" : ", ") + std::to_string(f);
     throw Error("fixed: no format with " + std::to_string(frac_x) +
-                " fractional position bits; expected one of " + list);
+                " fractional position bits and operand width " +
+                (operand_bits == 0 ? std::string("full") : std::to_string(operand_bits)) +
+                "; expected one of " + list + " (full width), or " +
+                std::to_string(hls::HardwareFormat::kFracX) + " with " +
+                std::to_string(hls::kHardwareOperandBits) + "-bit operands");
   }
   return it->second(hardware_model, initial, dt, lanes);
 }
@@ -168,7 +189,8 @@ json compare(const Scenario& scenario, const std::vector<BackendSpec>& specs,
     if (spec.kind == "float") {
       t.backend = make_float_backend(model, dt);
     } else if (spec.kind == "fixed") {
-      t.backend = make_fixed_backend(model, initial, dt, spec.frac_x, spec.truncate, options.lanes);
+      t.backend = make_fixed_backend(model, initial, dt, spec.frac_x, spec.truncate, options.lanes,
+                                     spec.operand_bits);
     } else {
       throw Error("fixed: unknown backend kind '" + spec.kind + "'; expected float or fixed");
     }

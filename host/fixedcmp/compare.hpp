@@ -28,11 +28,15 @@ class Backend {
 
 // Fixed-point formats with the hardware's integer parts and frac_x fractional bits of
 // position (P gets frac_x + 4, F frac_x - 7, width frac_x + 5: the layout of
-// hls::HardwareFormat shifted as a whole). Available frac_x values:
+// hls::HardwareFormat shifted as a whole), with full-width multiplier operands. Available
+// frac_x values:
 std::vector<int> sweep_frac_x();
-// The bit-true model at format (frac_x, rounding). name: e.g. "fixed_q27_nearest".
+// The bit-true model at format (frac_x, rounding, operand width: 0 = full width, or
+// hls::kHardwareOperandBits at the hardware's frac_x). name: e.g. "fixed_q27_nearest_op18"
+// (the hardware format), "fixed_q27_nearest" (its full-width-operand ablation).
 std::unique_ptr<Backend> make_fixed_backend(const Model& hardware_model, const State& initial,
-                                            double dt, int frac_x, bool truncate, int lanes);
+                                            double dt, int frac_x, bool truncate, int lanes,
+                                            int operand_bits = 0);
 std::unique_ptr<Backend> make_float_backend(const Model& hardware_model, double dt);
 
 struct CompareOptions {
@@ -47,6 +51,7 @@ struct BackendSpec {
   std::string kind;  // "float", "fixed"
   int frac_x = 27;
   bool truncate = false;
+  int operand_bits = 0;  // 0: full width; hls::kHardwareOperandBits: the hardware's
 };
 
 // Runs the comparison; the JSON holds per backend the checkpoint errors, the running

@@ -17,9 +17,10 @@ constexpr long long kSteps = 10000;
 TEST(FixedComparison, HardwareFormatMeetsTheBoundOnBlock5AndReportsAllFields) {
   CompareOptions options;
   options.steps = kSteps;
-  const std::vector<BackendSpec> specs = {{"float", 0, false},
-                                          {"fixed", hls::HardwareFormat::kFracX, false},
-                                          {"fixed", hls::HardwareFormat::kFracX, true}};
+  const std::vector<BackendSpec> specs = {
+      {"float", 0, false, 0},
+      {"fixed", hls::HardwareFormat::kFracX, false, hls::kHardwareOperandBits},
+      {"fixed", hls::HardwareFormat::kFracX, true, hls::kHardwareOperandBits}};
   const nlohmann::json result = compare(load_scenario("block5"), specs, options);
   for (const char* key : {"scenario", "steps", "object_size_m", "backends",
                           "peak_reference_plate_force_N", "dropped_features"}) {

@@ -17,18 +17,21 @@ namespace fs = std::filesystem;
 // or delay-model fault, not a design property.
 constexpr double kMinPlausibleMhz = 5.0;
 constexpr double kMaxPlausibleMhz = 420.0;
-// rtl/rheo_tem.sv uses 25 multiplications of up to 32-bit operands: at least 25 blocks,
-// at most 4 per multiplication plus spares.
-constexpr int kMinTemMultipliers = 25;
-constexpr int kMaxTemMultipliers = 4 * 25 + 8;
+// rtl/rheo_tem.sv uses 22 multiplications of 18-bit operands: one block each (a few
+// spares for a mapping that splits one).
+constexpr int kMinTemMultipliers = 22;
+constexpr int kMaxTemMultipliers = 22 + 4;
 
 TEST(YosysSynthesis, TemReportIsParsedAndPlausible) {
   const fs::path out = fs::temp_directory_path() / "rheo_synth_yosys_test";
   fs::remove_all(out);
-  DesignSpec spec{"tem", "rheo_tem", {"rheo_consts_pkg.sv", "rheo_rsqrt.sv", "rheo_tem.sv"}, {}};
+  DesignSpec spec{"tem",
+                  "rheo_tem",
+                  {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv", "rheo_tem.sv"},
+                  {}};
   const SynthResult r = run_synthesis(spec, default_setup(), out);
   EXPECT_GT(r.resources.lut4, 1000);
-  EXPECT_GT(r.resources.ff, 500);  // 18 pipeline stages of 32-bit words
+  EXPECT_GT(r.resources.ff, 500);  // 40 pipeline stages
   EXPECT_GE(r.resources.mult18, kMinTemMultipliers);
   EXPECT_LE(r.resources.mult18, kMaxTemMultipliers);
   EXPECT_GE(r.resources.ramb16, 1);  // the rsqrt seed ROM
