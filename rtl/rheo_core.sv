@@ -4,7 +4,7 @@
 //
 // Partitioning: particle i lives in bank i % Lanes at local address i / Lanes; edge slot t
 // (host index) belongs to lane t % Lanes, row t / Lanes. The host (make_core_image)
-// orients every edge so that its start particle lies in the slot lane's bank and
+// puts every edge in a slot of the lane whose bank holds its start particle and
 // schedules the rows so that the end particles of one row lie in pairwise different banks
 // (empty slots are bubbles). After reset the core clears its force sums (MaxParticles / Lanes
 // clocks, input not ready). The command FSM keeps bank / local counters (a 24-clock

@@ -57,14 +57,13 @@ inline constexpr int kMpmDrainCycles = hls::kMpmDrainCycles;
 long cycles_per_step_formula(int edge_rows, int num_particles, int lanes);
 
 // The edge schedule for `lanes` lanes (particle i in bank i % lanes). Each edge goes to
-// the lane owning one of its particles, which becomes its start (flipped: the model's end
-// is the start); every row holds at most one edge per lane and its end particles lie in
-// pairwise different banks. Rows = max over lanes and banks of the edges a lane starts or
-// a bank ends (bipartite edge colouring), orientations balance these counts.
+// the lane owning its start particle (the model's orientation is kept, so the words do
+// not depend on the lane count); every row holds at most one edge per lane and its end
+// particles lie in pairwise different banks. Rows = max over lanes and banks of the edges
+// a lane starts or a bank ends (bipartite edge colouring).
 struct EdgeSchedule {
   int rows = 0;
   std::vector<int> slot;      // per edge: row * lanes + lane
-  std::vector<bool> flipped;  // per edge: start and end swapped
 };
 EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int lanes);
 

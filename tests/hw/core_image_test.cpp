@@ -89,8 +89,7 @@ TEST(CoreImage, ScheduleRowsHaveDistinctEndBanksAndMeetTheLowerBound) {
       ASSERT_LT(t, sch.rows * lanes);
       ASSERT_EQ(owner[t], -1) << "slot used twice";
       owner[t] = k;
-      const int start = sch.flipped[k] ? ends[k].second : ends[k].first;
-      const int end = sch.flipped[k] ? ends[k].first : ends[k].second;
+      const auto [start, end] = ends[k];
       EXPECT_EQ(start % lanes, t % lanes);
       ++starts[start % lanes];
       ++ends_in[end % lanes];
@@ -100,7 +99,7 @@ TEST(CoreImage, ScheduleRowsHaveDistinctEndBanksAndMeetTheLowerBound) {
       for (int j = 0; j < lanes; ++j) {
         const int k = owner[std::size_t(r) * lanes + j];
         if (k < 0) continue;
-        const int end = sch.flipped[k] ? ends[k].first : ends[k].second;
+        const int end = ends[k].second;
         EXPECT_FALSE(used[end % lanes]) << "row " << r << ", lanes " << lanes;
         used[end % lanes] = true;
       }
