@@ -140,13 +140,11 @@ void run(const Options& opt) {
     spec.label = label;
     if (label == "tem") {
       spec.top = "rheo_tem";
-      spec.sources = {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv",
-                      "rheo_tem.sv"};
+      spec.sources = {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
     } else if (label == "tem_arm") {
       // The TEM with the parallel Maxwell arm (second_relaxation_time, issue 6).
       spec.top = "rheo_tem";
-      spec.sources = {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv",
-                      "rheo_tem.sv"};
+      spec.sources = {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
       spec.params = {"MaxwellArm=1"};
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
@@ -185,10 +183,11 @@ void run(const Options& opt) {
   }
   if (results.empty()) throw Error("synth: no design synthesised; see the messages above");
 
-  // Lanes that fit and the clock. Per lane: TEM + MPM (synthesised alone). Block RAM: the
-  // analytic estimate at block15 capacity. The synthesised core (block5 capacity, see
-  // kCoreCapacityParams) is reported beside it; its control, crossbar and stream logic is
-  // small beside the lanes.
+  // Lanes that fit and the clock. Per lane: TEM + MPM (synthesised alone) or, when the
+  // core was synthesised, its logic divided by its lanes if that is larger (it adds the
+  // lane's crossbar port, force sums, LUT RAMs and control). Block RAM is not taken from
+  // the synthesised core (block5 capacity, see kCoreCapacityParams) but checked per
+  // scenario with the analytic estimate.
   json fit;
   double clock_mhz = 1e9;
   for (const auto& [label, r] : results) clock_mhz = std::min(clock_mhz, r.timing.fmax_mhz);
@@ -196,6 +195,23 @@ void run(const Options& opt) {
   Resources lane;
   if (have_lane) lane = sum(results.at("tem").resources, results.at("mpm").resources);
   fit["per_lane_tem_plus_mpm"] = resources_json(lane);
+  std::string lane_basis = "TEM + MPM synthesised alone (core control logic not included)";
+  if (have_lane && results.count("core") && opt.lanes >= 1) {
+    const Resources& core = results.at("core").resources;
+    Resources core_lane;
+    core_lane.lut4 = (core.lut4 + opt.lanes - 1) / opt.lanes;
+    core_lane.ff = (core.ff + opt.lanes - 1) / opt.lanes;
+    core_lane.mult18 = (core.mult18 + opt.lanes - 1) / opt.lanes;
+    fit["per_lane_from_core"] = resources_json(core_lane);
+    if (synth::estimate_slices(core_lane) > synth::estimate_slices(lane)) {
+      lane.lut4 = core_lane.lut4;
+      lane.ff = core_lane.ff;
+      lane.mult18 = std::max(lane.mult18, core_lane.mult18);
+      lane_basis = "synthesised core (" + std::to_string(opt.lanes) +
+                   " lanes, block5 capacity) divided by its lanes, block RAM excluded";
+    }
+  }
+  fit["per_lane_basis"] = lane_basis;
   const Scenario block15 = load_scenario("block15");
   const Model block15_model = block15.build_model();
   const synth::ProblemSize block15_size = synth::problem_size("block15", block15_model);
@@ -227,9 +243,9 @@ void run(const Options& opt) {
   fit["max_lanes_xc2v6000"] = lanes_fit;
   fit["core_max_lanes_parameter"] = kMaxCoreLanes;
   fit["method"] =
-      "L x (TEM + MPM) against 33,792 slices and 144 MULT18X18 (core control logic not "
-      "included); RAMB16 is checked per scenario in performance.scenarios (analytic memory "
-      "model, host/synth/performance_model.hpp)";
+      "L x per-lane resources (per_lane_basis) against 33,792 slices and 144 MULT18X18; "
+      "RAMB16 is checked per scenario in performance.scenarios (analytic memory model, "
+      "host/synth/performance_model.hpp)";
   fit["ramb16_default_capacity_estimate_1_lane"] = synth::estimate_core_ramb16({}, 1);
   if (results.count("core")) {
     fit["ramb16_analytic_at_synthesised_capacity"] =
@@ -300,6 +316,28 @@ void run(const Options& opt) {
     rows.push_back(row);
   }
   perf["scenarios"] = rows;
+
+  // The largest block whose state the analytic model fits in the device's block RAM at
+  // the lane count used (26-neighbour lattices n x n x n, as the built-in blocks).
+  json largest = nullptr;
+  for (int n = 2; n <= 16; ++n) {
+    const synth::ProblemSize cube = synth::lattice_problem(n, n, n);
+    const long long cube_rows = synth::edge_rows(cube, lanes_used);
+    const int ramb16 = synth::estimate_core_ramb16(
+        {cube.particles, static_cast<int>(cube_rows * lanes_used)}, lanes_used);
+    if (ramb16 > synth::Device{}.ramb16) break;
+    const long long cycles = synth::cycles_per_step(cube, lanes_used, cycle_model);
+    largest = {{"lattice", cube.name},      {"particles", cube.particles},
+               {"edges", cube.edges},       {"ramb16_estimate", ramb16},
+               {"cycles_per_step", cycles}, {"estimated_us_per_step", cycles / clock_mhz}};
+  }
+  perf["largest_cube_with_state_on_chip"] = largest;
+  if (!largest.is_null()) {
+    std::cout << "perf: largest cube with its state on chip at L=" << lanes_used << ": "
+              << largest["lattice"].get<std::string>() << " (" << largest["edges"].get<int>()
+              << " edges, " << largest["ramb16_estimate"].get<int>() << " RAMB16, "
+              << largest["estimated_us_per_step"].get<double>() << " us/step)\n";
+  }
 
   json delays = json::array();
   for (const auto& d : synth::Virtex2Delays{}.all()) {

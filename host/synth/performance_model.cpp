@@ -50,6 +50,29 @@ long long edge_rows(const ProblemSize& p, int lanes) {
   return driver::schedule_edges(p.ends, lanes).rows;
 }
 
+ProblemSize lattice_problem(int n1, int n2, int n3) {
+  if (n1 < 1 || n2 < 1 || n3 < 1) throw Error("lattice_problem: sizes must be >= 1");
+  ProblemSize p{
+      std::to_string(n1) + "x" + std::to_string(n2) + "x" + std::to_string(n3) + " lattice",
+      n1 * n2 * n3,
+      0,
+      {}};
+  const auto index = [&](int i, int j, int k) { return i + n1 * (j + n2 * k); };
+  for (int k = 0; k < n3; ++k)
+    for (int j = 0; j < n2; ++j)
+      for (int i = 0; i < n1; ++i)
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+              const int a = i + di, b = j + dj, c = k + dk;
+              if (a < 0 || b < 0 || c < 0 || a >= n1 || b >= n2 || c >= n3) continue;
+              const int from = index(i, j, k), to = index(a, b, c);
+              if (to > from) p.ends.push_back({from, to});  // each pair once
+            }
+  p.edges = static_cast<int>(p.ends.size());
+  return p;
+}
+
 long long cycles_per_step(const ProblemSize& p, int lanes, const CycleModel& model) {
   if (lanes < 1) throw Error("cycles_per_step: lanes must be >= 1, got " + std::to_string(lanes));
   return std::max<long long>(edge_rows(p, lanes), 1) + model.tem_drain +

@@ -55,6 +55,11 @@ ProblemSize problem_size(const std::string& name, const Model& model);
 long long edge_rows(const ProblemSize& p, int lanes);
 long long cycles_per_step(const ProblemSize& p, int lanes, const CycleModel& model = {});
 
+// A block of n1 x n2 x n3 particles with the 26-neighbour lattice of sim/mesh (axis, face-
+// and body-diagonal edges, each once, from the lower to the higher index): the problem
+// size of the built-in blocks without building their models (block15 is 15 x 15 x 16).
+ProblemSize lattice_problem(int n1, int n2, int n3);
+
 // Block RAM of the core's state memories at a capacity, from the RAMB16 aspect ratios
 // (16K x 1 ... 512 x 36): each memory takes the cheapest ratio. Every memory of
 // rtl/rheo_core.sv has at most two ports, so nothing is replicated: per bank (particles /

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "host/driver/core_image.hpp"
 #include "host/synth/delay_model.hpp"
@@ -165,6 +166,18 @@ TEST(PerformanceModel, CoreBlockRamAtBlock5CapacityCountsEveryMemoryOnce) {
   // Two lanes halve every depth (nothing is copied): per bank the same 19 blocks at 64
   // deep, per lane the 1024-slot record (17 bits: 1), L and d (2 each), material (1).
   EXPECT_EQ(estimate_core_ramb16({128, 2048}, 2), 2 * (19 + 6));
+}
+
+// The generated lattice has the built-in blocks' sizes (block15 is 15 x 15 x 16).
+TEST(PerformanceModel, LatticeProblemHasTheBuiltInBlocksSizes) {
+  for (const auto& [name, n1, n2, n3] :
+       {std::tuple{"block5", 5, 5, 5}, std::tuple{"block15", 15, 15, 16}}) {
+    const Model model = load_scenario(name).build_model();
+    const ProblemSize lattice = lattice_problem(n1, n2, n3);
+    EXPECT_EQ(lattice.particles, model.num_particles()) << name;
+    EXPECT_EQ(lattice.edges, model.num_edges()) << name;
+    EXPECT_EQ(static_cast<int>(lattice.ends.size()), lattice.edges);
+  }
 }
 
 TEST(PerformanceModel, CycleFormulaMatchesTheDriverForEveryLaneCount) {
