@@ -426,13 +426,26 @@ module rheo_core #(
     end
   end
 
-  // Plate force of this cycle from all lanes.
-  logic signed [PlateAccW-1:0] plate_sum;
+  // Plate force of this cycle from all lanes. It is registered (plate_in_q) before it is
+  // added to the wide accumulator, and the accumulator is narrowed to a word one clock
+  // after its last addition, so that no clock holds the lane sum, the 48-bit addition and
+  // the saturation compare in a row (MpmDrain counts these two clocks).
+  localparam int PlateInW = W + $clog2(Lanes + 1);
+  logic signed [PlateInW-1:0] plate_in, plate_in_q;
   always_comb begin
-    plate_sum = plate_acc_q;
+    plate_in = '0;
     for (int j = 0; j < Lanes; j++) begin
-      if (mpm_valid[j]) plate_sum = plate_sum + PlateAccW'($signed(mpm_plate_f[j]));
+      if (mpm_valid[j]) plate_in = plate_in + PlateInW'($signed(mpm_plate_f[j]));
     end
+  end
+
+  // No asynchronous reset: the accumulator is cleared when a step's plate word arrives, so
+  // the clear maps to the flip-flops' synchronous reset instead of a LUT behind the carry
+  // chain.
+  always_ff @(posedge clk_i) begin
+    plate_in_q <= plate_in;
+    if (state_q == StRunPlate && in_fire) plate_acc_q <= '0;
+    else plate_acc_q <= plate_acc_q + PlateAccW'(plate_in_q);
   end
 
   // ---------------------------------------------------------------- pipeline registers
@@ -579,7 +592,6 @@ module rheo_core #(
       out_data_q <= '0;
       out_valid_q <= 1'b0;
       out_last_q <= 1'b0;
-      plate_acc_q <= '0;
       num_particles_q <= '0;
       edge_rows_q <= '0;
       for (int i = 0; i < 3; i++) gravity_q[i] <= '0;
@@ -591,7 +603,6 @@ module rheo_core #(
       cycle_count_q <= '0;
     end else begin
       status_q <= status_q | lane_flags;
-      plate_acc_q <= plate_sum;
       if (busy_o) cycle_count_q <= cycle_count_q + 32'd1;
       case (state_q)
         StClearSums: begin
@@ -739,7 +750,6 @@ module rheo_core #(
         StRunPlate: begin
           if (in_fire) begin
             plate_z_q <= s_axis_tdata;
-            plate_acc_q <= '0;
             row_q <= '0;
             state_q <= StTem;
           end
@@ -770,8 +780,8 @@ module rheo_core #(
         end
         StMpmDrain: begin
           if (drain_q == 0) begin
-            out_data_q <= rheo_consts_pkg::sat_word(WideW'(plate_sum));
-            if (rheo_consts_pkg::clips(WideW'(plate_sum), W))
+            out_data_q <= rheo_consts_pkg::sat_word(WideW'(plate_acc_q));
+            if (rheo_consts_pkg::clips(WideW'(plate_acc_q), W))
               status_q <= status_q | lane_flags | 32'(rheo_consts_pkg::StatusPlateSat);
             out_valid_q <= 1'b1;
             out_last_q <= (count_q == 24'd1);
