@@ -127,14 +127,15 @@ inline constexpr int kMaxLanes = 4;
 // Pipeline drains of the core (rtl/rheo_core.sv), part of the cycles-per-step formula,
 // counted from the clock after the last issue until the last write has landed:
 // edge pass: particle read, TEM stages, accumulator read, sum, accumulator write;
-// MPM pass: particle and sum read, sum register, MPM stages (the last output's plate
-// force is taken and its write lands in the last clock).
+// MPM pass: particle and sum read, sum register, saturated-sum register, MPM stages, then
+// the plate force's lane-sum register and its accumulator addition (the word is narrowed
+// from the accumulator in the last clock; the last particle's write has landed by then).
 // The module latencies (valid_i to valid_o of rtl/rheo_tem.sv and rtl/rheo_mpm.sv) are
 // defined here so that the core's drains follow when a module's pipeline changes.
 inline constexpr int kTemLatency = 40;
 inline constexpr int kMpmLatency = 8;
 inline constexpr int kTemDrainCycles = kTemLatency + 4;
-inline constexpr int kMpmDrainCycles = kMpmLatency + 2;
+inline constexpr int kMpmDrainCycles = kMpmLatency + 5;
 
 // Accumulator widths: particle force sums and the plate force keep guard bits and
 // saturate only when they are narrowed to a word (so the sums do not depend on the order

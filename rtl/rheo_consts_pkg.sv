@@ -28,7 +28,7 @@ package rheo_consts_pkg;
   localparam int TemLatency = 40;  // rheo_tem: clocks from valid_i to valid_o
   localparam int MpmLatency = 8;  // rheo_mpm: clocks from valid_i to valid_o
   localparam int TemDrain = 44;  // clocks after the last edge row until its sums land
-  localparam int MpmDrain = 10;  // clocks after the last particle row until written
+  localparam int MpmDrain = 13;  // clocks after the last particle row until written
   localparam int ForceAccW = 40;  // per-particle force sum
   localparam int PlateAccW = 48;  // plate force sum
   localparam int StatusTemSat = 1;  // status bit

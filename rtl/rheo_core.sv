@@ -197,18 +197,21 @@ module rheo_core #(
   logic [PAW-1:0] acc_s_addr [Lanes], acc_e_addr [Lanes];
   logic [3*AccW-1:0] acc_s_val [Lanes], acc_e_val [Lanes];
   logic [3*AccW-1:0] sum_s [Lanes], sum_e [Lanes];
-  // MPM pass: stage 1 (memories read) and stage 2 (MPM input).
-  logic mv1_q [Lanes], mreq2_q [Lanes];
+  // MPM pass: stage 1 (memories read, sums added), stage 2 (sums saturated) and stage 3
+  // (MPM input).
+  logic mv1_q [Lanes], mreq2_q [Lanes], mreq3_q [Lanes];
   logic [PAW-1:0] walk1_q;
-  logic [PAW-1:0] midx2_q [Lanes];
+  logic [PAW-1:0] midx2_q [Lanes], midx3_q [Lanes];
   logic [3*W-1:0] x0_data [Lanes];
   logic [CoefW-1:0] minv_data [Lanes];
   logic [1:0] pflags_data [Lanes];
-  logic [3*W-1:0] f1 [Lanes];
-  logic clip1 [Lanes];
-  logic [3*W-1:0] mf2_q [Lanes], mx2_q [Lanes], mp2_q [Lanes], mx02_q [Lanes];
-  logic [CoefW-1:0] mminv2_q [Lanes];
-  logic [1:0] mflags2m_q [Lanes];
+  logic [3*SumW-1:0] total1 [Lanes], mtotal2_q [Lanes];
+  logic [3*W-1:0] f2 [Lanes];
+  logic clip2 [Lanes];
+  logic [3*W-1:0] mx2_q [Lanes], mp2_q [Lanes], mx02_q [Lanes];
+  logic [3*W-1:0] mf3_q [Lanes], mx3_q [Lanes], mp3_q [Lanes], mx03_q [Lanes];
+  logic [CoefW-1:0] mminv2_q [Lanes], mminv3_q [Lanes];
+  logic [1:0] mflags2m_q [Lanes], mflags3m_q [Lanes];
   logic mpm_valid [Lanes], mpm_sat [Lanes];
   logic [PAW-1:0] mpm_idx [Lanes];
   logic [3*W-1:0] mpm_x [Lanes], mpm_p [Lanes];
@@ -349,29 +352,33 @@ module rheo_core #(
       .sum_addr_i(PAW'(row_q)), .sum_o(sum_e[j]),
       .clear_i(mv1_q[j] || clearing_sums), .clear_addr_i(clear_addr));
 
-    // ---- MPM pass stage 1: f = start sum + end sum, saturated once ----
+    // ---- MPM pass stage 1: start sum + end sum; stage 2: saturated once ----
+    // (two clocks, so that the 41-bit addition and the saturation compare are not in a row)
     always_comb begin
-      clip1[j] = 1'b0;
+      for (int i = 0; i < 3; i++)
+        total1[j][i*SumW +: SumW] = SumW'($signed(sum_s[j][i*AccW +: AccW])) +
+                                    SumW'($signed(sum_e[j][i*AccW +: AccW]));
+    end
+    always_comb begin
+      clip2[j] = 1'b0;
       for (int i = 0; i < 3; i++) begin
-        logic signed [SumW-1:0] total;
-        total = SumW'($signed(sum_s[j][i*AccW +: AccW])) +
-                SumW'($signed(sum_e[j][i*AccW +: AccW]));
-        f1[j][i*W +: W] = rheo_consts_pkg::sat_word(WideW'(total));
-        clip1[j] = clip1[j] | rheo_consts_pkg::clips(WideW'(total), W);
+        f2[j][i*W +: W] = rheo_consts_pkg::sat_word(WideW'($signed(mtotal2_q[j][i*SumW +: SumW])));
+        clip2[j] = clip2[j] |
+                   rheo_consts_pkg::clips(WideW'($signed(mtotal2_q[j][i*SumW +: SumW])), W);
       end
     end
 
     rheo_mpm #(.W(W), .CoefW(CoefW), .IdxW(PAW)) u_mpm (
       .clk_i     (clk_i),
       .rst_ni    (rst_ni),
-      .valid_i   (mreq2_q[j]),
-      .idx_i     (midx2_q[j]),
-      .f_i       (mf2_q[j]),
-      .x_i       (mx2_q[j]),
-      .p_i       (mp2_q[j]),
-      .x0_i      (mx02_q[j]),
-      .minv_i    (mminv2_q[j]),
-      .flags_i   (mflags2m_q[j]),
+      .valid_i   (mreq3_q[j]),
+      .idx_i     (midx3_q[j]),
+      .f_i       (mf3_q[j]),
+      .x_i       (mx3_q[j]),
+      .p_i       (mp3_q[j]),
+      .x0_i      (mx03_q[j]),
+      .minv_i    (mminv3_q[j]),
+      .flags_i   (mflags3m_q[j]),
       .g_i       (gravity_flat),
       .plate_z_i (plate_z_q),
       .plate_en_i(plate_en_q),
@@ -426,13 +433,26 @@ module rheo_core #(
     end
   end
 
-  // Plate force of this cycle from all lanes.
-  logic signed [PlateAccW-1:0] plate_sum;
+  // Plate force of this cycle from all lanes. It is registered (plate_in_q) before it is
+  // added to the wide accumulator, and the accumulator is narrowed to a word one clock
+  // after its last addition, so that no clock holds the lane sum, the 48-bit addition and
+  // the saturation compare in a row (MpmDrain counts these two clocks).
+  localparam int PlateInW = W + $clog2(Lanes + 1);
+  logic signed [PlateInW-1:0] plate_in, plate_in_q;
   always_comb begin
-    plate_sum = plate_acc_q;
+    plate_in = '0;
     for (int j = 0; j < Lanes; j++) begin
-      if (mpm_valid[j]) plate_sum = plate_sum + PlateAccW'($signed(mpm_plate_f[j]));
+      if (mpm_valid[j]) plate_in = plate_in + PlateInW'($signed(mpm_plate_f[j]));
     end
+  end
+
+  // No asynchronous reset: the accumulator is cleared when a step's plate word arrives, so
+  // the clear maps to the flip-flops' synchronous reset instead of a LUT behind the carry
+  // chain.
+  always_ff @(posedge clk_i) begin
+    plate_in_q <= plate_in;
+    if (state_q == StRunPlate && in_fire) plate_acc_q <= '0;
+    else plate_acc_q <= plate_acc_q + PlateAccW'(plate_in_q);
   end
 
   // ---------------------------------------------------------------- pipeline registers
@@ -451,12 +471,20 @@ module rheo_core #(
       mflags2_q[j] <= mat_flags[mat1[j]];
       // MPM pass stage 1 -> 2.
       midx2_q[j] <= walk1_q;
-      mf2_q[j] <= f1[j];
+      mtotal2_q[j] <= total1[j];
       mx2_q[j] <= xp_a_data[j][0 +: 3*W];
       mp2_q[j] <= xp_a_data[j][3*W +: 3*W];
       mx02_q[j] <= x0_data[j];
       mminv2_q[j] <= minv_data[j];
       mflags2m_q[j] <= pflags_data[j];
+      // MPM pass stage 2 -> 3.
+      midx3_q[j] <= midx2_q[j];
+      mf3_q[j] <= f2[j];
+      mx3_q[j] <= mx2_q[j];
+      mp3_q[j] <= mp2_q[j];
+      mx03_q[j] <= mx02_q[j];
+      mminv3_q[j] <= mminv2_q[j];
+      mflags3m_q[j] <= mflags2m_q[j];
     end
   end
 
@@ -467,6 +495,7 @@ module rheo_core #(
         ev2_q[j] <= 1'b0;
         mv1_q[j] <= 1'b0;
         mreq2_q[j] <= 1'b0;
+        mreq3_q[j] <= 1'b0;
       end
     end else begin
       ev1_q <= (state_q == StTem) && (row_q < edge_rows_q);
@@ -474,6 +503,7 @@ module rheo_core #(
         ev2_q[j] <= valid1[j];
         mv1_q[j] <= mpm_phase && (base_q + IdxCountW'(j) < num_particles_q);
         mreq2_q[j] <= mv1_q[j];
+        mreq3_q[j] <= mreq2_q[j];
       end
     end
   end
@@ -546,7 +576,7 @@ module rheo_core #(
       if (tem_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusTemSat);
       if (tem_deg[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusDegenerate);
       if (mpm_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
-      if (mv1_q[j] && clip1[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
+      if (mreq2_q[j] && clip2[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
     end
   end
 
@@ -579,7 +609,6 @@ module rheo_core #(
       out_data_q <= '0;
       out_valid_q <= 1'b0;
       out_last_q <= 1'b0;
-      plate_acc_q <= '0;
       num_particles_q <= '0;
       edge_rows_q <= '0;
       for (int i = 0; i < 3; i++) gravity_q[i] <= '0;
@@ -591,7 +620,6 @@ module rheo_core #(
       cycle_count_q <= '0;
     end else begin
       status_q <= status_q | lane_flags;
-      plate_acc_q <= plate_sum;
       if (busy_o) cycle_count_q <= cycle_count_q + 32'd1;
       case (state_q)
         StClearSums: begin
@@ -739,7 +767,6 @@ module rheo_core #(
         StRunPlate: begin
           if (in_fire) begin
             plate_z_q <= s_axis_tdata;
-            plate_acc_q <= '0;
             row_q <= '0;
             state_q <= StTem;
           end
@@ -770,8 +797,8 @@ module rheo_core #(
         end
         StMpmDrain: begin
           if (drain_q == 0) begin
-            out_data_q <= rheo_consts_pkg::sat_word(WideW'(plate_sum));
-            if (rheo_consts_pkg::clips(WideW'(plate_sum), W))
+            out_data_q <= rheo_consts_pkg::sat_word(WideW'(plate_acc_q));
+            if (rheo_consts_pkg::clips(WideW'(plate_acc_q), W))
               status_q <= status_q | lane_flags | 32'(rheo_consts_pkg::StatusPlateSat);
             out_valid_q <= 1'b1;
             out_last_q <= (count_q == 24'd1);
