@@ -580,6 +580,20 @@ module rheo_core #(
     end
   end
 
+  // Bank and local address of entry index_q + 1 (particle index_q + 1 or edge slot
+  // index_q + 1), taken by WRITE and READ commands when an entry is done.
+  logic [BW-1:0] next_bank;
+  logic [IdxCountW-1:0] next_local;
+  always_comb begin
+    if (bank_q == BW'(Lanes - 1)) begin
+      next_bank = '0;
+      next_local = local_q + 24'd1;
+    end else begin
+      next_bank = bank_q + BW'(1);
+      next_local = local_q;
+    end
+  end
+
   // Shift-subtract division of the command's start index by Lanes, one bit per clock.
   localparam int TrialW = BW + 1;
   logic [TrialW-1:0] div_trial;
@@ -703,12 +717,8 @@ module rheo_core #(
             if (entry_done) begin
               field_q <= '0;
               index_q <= index_q + 24'd1;
-              if (bank_q == BW'(Lanes - 1)) begin
-                bank_q <= '0;
-                local_q <= local_q + 24'd1;
-              end else begin
-                bank_q <= bank_q + BW'(1);
-              end
+              bank_q <= next_bank;
+              local_q <= next_local;
               count_q <= count_q - 24'd1;
               if (count_q == 24'd1) state_q <= StIdle;
             end else begin
@@ -730,12 +740,8 @@ module rheo_core #(
             if (entry_done) begin
               field_q <= '0;
               index_q <= index_q + 24'd1;
-              if (bank_q == BW'(Lanes - 1)) begin
-                bank_q <= '0;
-                local_q <= local_q + 24'd1;
-              end else begin
-                bank_q <= bank_q + BW'(1);
-              end
+              bank_q <= next_bank;
+              local_q <= next_local;
               count_q <= count_q - 24'd1;
               state_q <= (count_q == 24'd1) ? StIdle : StRFetch;
             end else begin

@@ -1,5 +1,8 @@
 // The RTL TEM (rtl/rheo_tem.sv, verilated alone) against the bit-true tem_edge on random
-// inputs fed one per clock: every output word and flag must be equal.
+// inputs fed one per clock: every output word and flag must be equal. Run for both
+// variants: the baseline TEM (Vrheo_tem) and the one with the parallel Maxwell arm
+// (MaxwellArm = 1, Vrheo_tem_arm), which also carries the arm's extension m and two more
+// coefficients.
 #include <gtest/gtest.h>
 
 #pragma GCC diagnostic push
@@ -7,6 +10,7 @@
 #include <verilated.h>
 
 #include "Vrheo_tem.h"
+#include "Vrheo_tem_arm.h"
 #pragma GCC diagnostic pop
 
 #include <deque>
@@ -29,14 +33,19 @@ struct Expected {
   std::uint32_t status;
 };
 
-TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
+// Drives kEdges random edges (10 % bubbles, 2 % extreme words that reach the saturation
+// paths) into the verilated TEM `Model` and compares every output with tem_edge<Fmt, kArm>.
+template <class Model, bool kArm>
+void expect_rtl_tem_matches_bit_true() {
+  constexpr int kCoefs = kArm ? 8 : 6;
+  constexpr int kCoefWords = (kCoefs * 24 + 31) / 32;
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<std::int64_t> small_pos(0, std::int64_t(6) << Fmt::kFracX);
   std::uniform_int_distribution<std::int64_t> any_word(INT32_MIN, INT32_MAX);
   std::uniform_int_distribution<std::int64_t> small_p(-(1 << 20), 1 << 20);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   auto ctx = std::make_unique<VerilatedContext>();
-  auto tem = std::make_unique<Vrheo_tem>(ctx.get());
+  auto tem = std::make_unique<Model>(ctx.get());
   rtl_test::reset(*tem);
   std::deque<Expected> pending;
   int checked = 0, saturated = 0;
@@ -45,7 +54,6 @@ TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
     const bool issue = cycle < kEdges && unit(rng) < 0.9;  // some bubbles
     tem->valid_i = issue;
     if (issue) {
-      // Mostly realistic edges; 2 % extreme words to exercise saturation.
       const bool extreme = unit(rng) < 0.02;
       TemIn in;
       for (int a = 0; a < 3; ++a) {
@@ -64,6 +72,12 @@ TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
       mc.a_min = driver::encode_coef(0.5 + 0.5 * unit(rng), "a_min", 0);
       mc.a_max = driver::encode_coef(1.0 + unit(rng), "a_max", 0);
       mc.flags = std::uint32_t(cycle & 3);
+      if constexpr (kArm) {
+        in.m = extreme ? any_word(rng) : small_p(rng) * 64;
+        mc.gamma = driver::encode_coef(std::exp2(-14 * unit(rng)), "gamma", S::kGamma);
+        mc.k2t = driver::encode_coef(2.0 * unit(rng), "k2t", S::kK2t);
+        tem->m_i = std::uint32_t(in.m);
+      }
       for (int a = 0; a < 3; ++a) {
         tem->xs_i[a] = std::uint32_t(in.xs[a]);
         tem->xe_i[a] = std::uint32_t(in.xe[a]);
@@ -72,10 +86,11 @@ TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
       }
       tem->d_i = std::uint32_t(in.d);
       tem->len_i = std::uint32_t(in.L);
-      const Coef* coefs[6] = {&mc.alpha, &mc.beta, &mc.kt, &mc.ct, &mc.a_min, &mc.a_max};
-      // coef_i is 144 bits: six 24-bit fields packed into 32-bit words.
-      for (int w = 0; w < 5; ++w) tem->coef_i[w] = 0;
-      for (int c = 0; c < 6; ++c) {
+      const Coef* coefs[8] = {&mc.alpha, &mc.beta,  &mc.kt,    &mc.ct,
+                              &mc.a_min, &mc.a_max, &mc.gamma, &mc.k2t};
+      // coef_i packs the 24-bit fields (six, or eight with the arm) into 32-bit words.
+      for (int w = 0; w < kCoefWords; ++w) tem->coef_i[w] = 0;
+      for (int c = 0; c < kCoefs; ++c) {
         const std::uint64_t v = rtl_test::pack_coef(*coefs[c]);
         const int bit = c * 24;
         tem->coef_i[bit / 32] |= std::uint32_t(v << (bit % 32));
@@ -84,7 +99,7 @@ TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
       tem->mat_flags_i = mc.flags;
       tem->idx_i = cycle & 0xFFFF;
       std::uint32_t status = 0;
-      const TemOut out = tem_edge<Fmt>(in, mc, &status);
+      const TemOut out = tem_edge<Fmt, kArm>(in, mc, &status);
       pending.push_back({cycle & 0xFFFF, out, status});
     }
     tem->eval();
@@ -98,6 +113,9 @@ TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
       for (int a = 0; a < 3; ++a)
         ASSERT_EQ(std::int32_t(tem->f_o[a]), e.out.f[a]) << "edge " << e.idx << " f" << a;
       ASSERT_EQ(std::int32_t(tem->d_o), e.out.d) << "edge " << e.idx;
+      if constexpr (kArm) {
+        ASSERT_EQ(std::int32_t(tem->m_o), e.out.m) << "edge " << e.idx;
+      }
       ASSERT_EQ(bool(tem->sat_o), bool(e.status & kStatusTemSaturated)) << "edge " << e.idx;
       ASSERT_EQ(bool(tem->degenerate_o), bool(e.status & kStatusDegenerateEdge));
       saturated += tem->sat_o;
@@ -108,6 +126,14 @@ TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
   EXPECT_TRUE(pending.empty());
   EXPECT_GT(checked, kEdges * 8 / 10);
   EXPECT_GT(saturated, 0) << "the extreme inputs should reach the saturation paths";
+}
+
+TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
+  expect_rtl_tem_matches_bit_true<Vrheo_tem, false>();
+}
+
+TEST(RtlTemArm, MatchesTheBitTrueArmTemWordForWordOnRandomInputsAtOneEdgePerClock) {
+  expect_rtl_tem_matches_bit_true<Vrheo_tem_arm, true>();
 }
 
 }  // namespace
