@@ -137,10 +137,11 @@ module rheo_core #(
   assign busy_o = (state_q == StTem) || (state_q == StTemDrain) || (state_q == StMpm) ||
                   (state_q == StMpmDrain);
 
-  logic [2:0] wpe;
-  assign wpe = rheo_consts_pkg::words_per_entry(region_q);
+  // Index of an entry's last word, registered with the command's region so that the
+  // word-count lookup and its subtraction stay off the FSM's next-state path.
+  logic [2:0] last_field_q;
   logic entry_done;
-  assign entry_done = (field_q == wpe - 3'd1);
+  assign entry_done = (field_q == last_field_q);
 
   logic host_we;
   assign host_we = (state_q == StWData) && in_fire;
@@ -200,6 +201,9 @@ module rheo_core #(
   // MPM pass: stage 1 (memories read, sums added), stage 2 (sums saturated) and stage 3
   // (MPM input).
   logic mv1_q [Lanes], mreq2_q [Lanes], mreq3_q [Lanes];
+  // A force sum of MPM stage 2 saturated (registered: off the status register's path; the
+  // MPM drain leaves it clocks to land before the step ends).
+  logic mclip3_q [Lanes];
   logic [PAW-1:0] walk1_q;
   logic [PAW-1:0] midx2_q [Lanes], midx3_q [Lanes];
   logic [3*W-1:0] x0_data [Lanes];
@@ -359,12 +363,18 @@ module rheo_core #(
         total1[j][i*SumW +: SumW] = SumW'($signed(sum_s[j][i*AccW +: AccW])) +
                                     SumW'($signed(sum_e[j][i*AccW +: AccW]));
     end
+    // Saturation to W bits (rheo_consts_pkg::sat_word): a sum fits iff its bits SumW-1..W-1
+    // are all equal, an AND/OR tree beside the word rather than two comparator chains.
     always_comb begin
       clip2[j] = 1'b0;
       for (int i = 0; i < 3; i++) begin
-        f2[j][i*W +: W] = rheo_consts_pkg::sat_word(WideW'($signed(mtotal2_q[j][i*SumW +: SumW])));
-        clip2[j] = clip2[j] |
-                   rheo_consts_pkg::clips(WideW'($signed(mtotal2_q[j][i*SumW +: SumW])), W);
+        logic [SumW-W:0] hi;
+        logic fits, sign;
+        hi = mtotal2_q[j][i*SumW + W-1 +: SumW-W+1];
+        sign = mtotal2_q[j][i*SumW + SumW-1];
+        fits = (&hi) | ~(|hi);
+        f2[j][i*W +: W] = fits ? mtotal2_q[j][i*SumW +: W] : {sign, {(W-1){~sign}}};
+        clip2[j] = clip2[j] | ~fits;
       end
     end
 
@@ -496,6 +506,7 @@ module rheo_core #(
         mv1_q[j] <= 1'b0;
         mreq2_q[j] <= 1'b0;
         mreq3_q[j] <= 1'b0;
+        mclip3_q[j] <= 1'b0;
       end
     end else begin
       ev1_q <= (state_q == StTem) && (row_q < edge_rows_q);
@@ -504,6 +515,7 @@ module rheo_core #(
         mv1_q[j] <= mpm_phase && (base_q + IdxCountW'(j) < num_particles_q);
         mreq2_q[j] <= mv1_q[j];
         mreq3_q[j] <= mreq2_q[j];
+        mclip3_q[j] <= mreq2_q[j] && clip2[j];
       end
     end
   end
@@ -576,7 +588,7 @@ module rheo_core #(
       if (tem_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusTemSat);
       if (tem_deg[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusDegenerate);
       if (mpm_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
-      if (mreq2_q[j] && clip2[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
+      if (mclip3_q[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
     end
   end
 
@@ -608,6 +620,7 @@ module rheo_core #(
       state_q <= StClearSums;
       reading_q <= 1'b0;
       region_q <= '0;
+      last_field_q <= rheo_consts_pkg::words_per_entry(4'd0) - 3'd1;
       count_q <= '0;
       index_q <= '0;
       local_q <= '0;
@@ -647,6 +660,7 @@ module rheo_core #(
         StIdle: begin
           if (in_fire) begin
             region_q <= s_axis_tdata[27:24];
+            last_field_q <= rheo_consts_pkg::words_per_entry(s_axis_tdata[27:24]) - 3'd1;
             count_q <= s_axis_tdata[23:0];
             field_q <= '0;
             case (s_axis_tdata[31:28])

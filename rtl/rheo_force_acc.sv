@@ -7,7 +7,9 @@
 //   clock 1: old sum + value -> register; the old sum is forwarded from the additions in
 //            clocks 1 and 2 ahead when they hit the same address (their sums are not yet
 //            in the memory when it was read: one is being written now, one was written
-//            in the read's own clock and the memory reads first)
+//            in the read's own clock and the memory reads first). The address matches are
+//            compared in clock 0 and registered, so clock 1 holds only the forwarding mux
+//            and the carry chain.
 //   clock 2: write the new sum (port B)
 // So the same particle may be added in consecutive clocks. Sums wrap in AccW bits: the
 // host bounds the degree so that they never do (rheo_consts_pkg::ForceAccW).
@@ -28,8 +30,9 @@ module rheo_force_acc #(
   input  logic              clear_i,
   input  logic [AddrW-1:0]  clear_addr_i
 );
-  logic b_valid_q, c_valid_q, d_valid_q;
-  logic [AddrW-1:0] b_addr_q, c_addr_q, d_addr_q;
+  logic b_valid_q, c_valid_q;
+  logic fwd_c_q, fwd_d_q;  // clock 1: forward c_sum_q / d_sum_q (registered address matches)
+  logic [AddrW-1:0] b_addr_q, c_addr_q;
   logic [3*AccW-1:0] b_val_q, c_sum_q, d_sum_q;
   logic [3*AccW-1:0] ram_q, old_sum, new_sum;
 
@@ -44,8 +47,8 @@ module rheo_force_acc #(
   assign sum_o = ram_q;
 
   always_comb begin
-    if (c_valid_q && c_addr_q == b_addr_q) old_sum = c_sum_q;
-    else if (d_valid_q && d_addr_q == b_addr_q) old_sum = d_sum_q;
+    if (fwd_c_q) old_sum = c_sum_q;
+    else if (fwd_d_q) old_sum = d_sum_q;
     else old_sum = ram_q;
     for (int i = 0; i < 3; i++)
       new_sum[i*AccW +: AccW] = old_sum[i*AccW +: AccW] + b_val_q[i*AccW +: AccW];
@@ -56,7 +59,6 @@ module rheo_force_acc #(
     b_val_q <= add_val_i;
     c_addr_q <= b_addr_q;
     c_sum_q <= new_sum;
-    d_addr_q <= c_addr_q;
     d_sum_q <= c_sum_q;
   end
 
@@ -64,11 +66,14 @@ module rheo_force_acc #(
     if (!rst_ni) begin
       b_valid_q <= 1'b0;
       c_valid_q <= 1'b0;
-      d_valid_q <= 1'b0;
+      fwd_c_q <= 1'b0;
+      fwd_d_q <= 1'b0;
     end else begin
+      // Next clock, b holds add_addr_i, c holds today's b and d today's c.
+      fwd_c_q <= b_valid_q && (b_addr_q == add_addr_i);
+      fwd_d_q <= c_valid_q && (c_addr_q == add_addr_i);
       b_valid_q <= add_valid_i;
       c_valid_q <= b_valid_q;
-      d_valid_q <= c_valid_q;
     end
   end
 endmodule

@@ -92,7 +92,12 @@ module rheo_round_shift #(
   always_ff @(posedge clk_i) t_q <= (TW'(v_i) <<< (1 + MaxLeft)) >>> sb_i;
   // u = t + 1 (no overflow: |t| < 2^(TW-1) - 1). u's low bits with the carry out of them:
   logic [LoW:0] lo_sum;
-  logic hi_ones, hi_zeros, fits;
+  // keep: ABC sees carry-chain outputs as arriving with the flip-flops and would fold
+  // hi_ones / hi_zeros into a LUT tree below the late carry-out (five LUT levels after the
+  // chain in the TEM); as kept nets they are computed beside the chain and the carry-out
+  // meets one LUT for fits and one for the output mux.
+  (* keep *) logic hi_ones, hi_zeros;
+  (* keep *) logic fits;
   always_comb begin
     lo_sum = {1'b0, t_q[LoW-1:0]} + (LoW+1)'(1);
     hi_ones = &t_q[TW-1:LoW];

@@ -4,7 +4,8 @@
 #   RHEO_SOURCES   space-separated file names inside RHEO_RTL_DIR, package first
 #   RHEO_TOP       top module (rheo_tem, rheo_mpm, the core top)
 #   RHEO_PARAMS    optional "Name=Value ..." overrides of the top's parameters
-#   RHEO_OUT       output prefix: writes $RHEO_OUT.stat.json, .ltp.txt, .cells.txt, .edif
+#   RHEO_OUT       output prefix: writes $RHEO_OUT.stat.json, .ltp.txt, .cells.txt, .edif,
+#                  .netlist.json
 # Usage: RHEO_RTL_DIR=rtl RHEO_SOURCES="rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_tem.sv" \
 #        RHEO_TOP=rheo_tem RHEO_OUT=/tmp/tem yosys -q -c scripts/synth.tcl
 yosys -import
@@ -54,3 +55,6 @@ foreach type {LUT1 LUT2 LUT3 LUT4 MUXCY XORCY MUXF5 MUXF6 MUXF7 MUXF8 MULT18X18 
 close $fh
 file delete $out.sel.tmp
 write_edif -pvector bra $out.edif
+# The mapped netlist for the static timing of host/synth/static_timing.cpp (every
+# register-to-register path priced by the delay model, not only the one ltp picks).
+write_json $out.netlist.json

@@ -70,6 +70,27 @@ json resources_json(const Resources& r) {
   return j;
 }
 
+// The slowest register-to-register path of the static timing, cell by cell (arrival at
+// each cell's output), so a designer can find it in the RTL.
+json critical_path_json(const synth::CriticalPath& c, const synth::PathTiming& t) {
+  json hops = json::array();
+  for (const auto& h : c.hops) {
+    hops.push_back({{"cell", h.cell},
+                    {"type", h.type},
+                    {"arrival_ns", h.arrival_ns},
+                    {"net", h.net},
+                    {"src", h.src}});
+  }
+  return {{"source", "static timing of the mapped netlist (host/synth/static_timing.hpp)"},
+          {"period_ns", t.period_ns},
+          {"logic_ns", t.logic_ns},
+          {"routing_ns", t.routing_ns},
+          {"limited_by", t.limited_by},
+          {"cells_by_type", c.cells_by_type},
+          {"timed_cells", c.timed_cells},
+          {"hops", hops}};
+}
+
 json result_json(const synth::SynthResult& s) {
   return {{"top", s.spec.top},
           {"sources", s.spec.sources},
@@ -77,12 +98,12 @@ json result_json(const synth::SynthResult& s) {
           {"yosys_seconds", s.yosys_seconds},
           {"resources", resources_json(s.resources)},
           {"longest_path",
-           {{"cells", s.path.length},
+           {{"source", "Yosys ltp: longest register-to-register path by number of cells"},
+            {"cells", s.path.length},
             {"hops_by_type", s.path.hops_by_type},
-            {"logic_ns", s.timing.logic_ns},
-            {"routing_ns", s.timing.routing_ns},
-            {"period_ns", s.timing.period_ns},
-            {"limited_by", s.timing.limited_by}}},
+            {"priced_period_ns", s.ltp_timing.period_ns},
+            {"priced_limited_by", s.ltp_timing.limited_by}}},
+          {"critical_path", critical_path_json(s.critical, s.timing)},
           {"estimated_fmax_mhz", s.timing.fmax_mhz},
           {"edif", s.edif.filename().string()}};
 }

@@ -80,7 +80,9 @@ SynthResult run_synthesis(const DesignSpec& spec, const YosysSetup& setup,
   }
   result.resources = parse_stat_json(prefix.string() + ".stat.json", spec.top);
   result.path = parse_longest_path(prefix.string() + ".ltp.txt", prefix.string() + ".cells.txt");
-  result.timing = estimate_timing(result.path, result.resources);
+  result.ltp_timing = estimate_timing(result.path, result.resources);
+  result.critical = analyse_netlist(prefix.string() + ".netlist.json", spec.top);
+  result.timing = timing_of(result.critical);
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "host/synth/delay_model.hpp"
+#include "host/synth/static_timing.hpp"
 #include "host/synth/synth_report.hpp"
 
 namespace rheo::synth {
@@ -20,8 +21,10 @@ struct DesignSpec {
 struct SynthResult {
   DesignSpec spec;
   Resources resources;
-  LongestPath path;
-  PathTiming timing;
+  LongestPath path;         // Yosys ltp: the longest path by number of cells
+  PathTiming ltp_timing;    // that path priced alone (the earlier estimate, for comparison)
+  CriticalPath critical;    // static timing of every path (static_timing.hpp)
+  PathTiming timing;        // the estimate: from the critical path
   double yosys_seconds = 0.0;  // wall time of the Yosys run
   std::filesystem::path edif;  // netlist for the vendor tools
   std::filesystem::path log;   // Yosys log (warnings and errors)

@@ -36,6 +36,15 @@ TEST(YosysSynthesis, TemReportIsParsedAndPlausible) {
   EXPECT_LE(r.resources.mult18, kMaxTemMultipliers);
   EXPECT_GE(r.resources.ramb16, 1);  // the rsqrt seed ROM
   EXPECT_GT(r.path.length, 1);
+  // The static timing covers the whole netlist, and its slowest path is at least a
+  // registered multiplier stage (the TEM has multipliers between registers).
+  const Virtex2Delays d;
+  EXPECT_GT(r.critical.timed_cells, r.resources.lut4);
+  EXPECT_GE(r.critical.period_ns,
+            d.clock_to_out.ns + 2 * d.route.ns + d.multiplier.ns + d.setup.ns - 1e-9);
+  ASSERT_GE(r.critical.hops.size(), 3u);
+  EXPECT_NEAR(r.critical.hops.back().arrival_ns, r.critical.period_ns, 1e-9);
+  EXPECT_NEAR(r.timing.fmax_mhz, 1e3 / r.critical.period_ns, 1e-9);
   EXPECT_GT(r.timing.fmax_mhz, kMinPlausibleMhz);
   EXPECT_LT(r.timing.fmax_mhz, kMaxPlausibleMhz);
   EXPECT_GT(utilisation(r.resources).slices, 0);
