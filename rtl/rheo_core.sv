@@ -551,22 +551,33 @@ module rheo_core #(
 
   // ---------------------------------------------------------------- read-back mux
   // The memories' read port A follows (bank_q, local_q) while idle; StRFetch waits for
-  // the registered read, StRLoad takes the word.
+  // the registered read, StRLoad takes the word. The word's source is decoded from
+  // (region, bank, field) into one-hot selects registered in StRFetch (they do not change
+  // until StRSend), so in StRLoad the block-RAM outputs meet only an AND-OR.
+  logic [5:0] sel_xp_q [Lanes];
+  logic sel_d_q [Lanes], sel_m_q [Lanes];
+  always_ff @(posedge clk_i) begin
+    for (int j = 0; j < Lanes; j++) begin
+      for (int f = 0; f < 6; f++) begin
+        sel_xp_q[j][f] <= region_q == 4'(rheo_consts_pkg::RegionParticleState) &&
+                          host_particle_ok && bank_q == BW'(j) && field_q == 3'(f);
+      end
+      sel_d_q[j] <= region_q == 4'(rheo_consts_pkg::RegionEdgeLength) && host_edge_ok &&
+                    bank_q == BW'(j);
+      sel_m_q[j] <= MaxwellArm != 0 && region_q == 4'(rheo_consts_pkg::RegionEdgeArm) &&
+                    host_edge_ok && bank_q == BW'(j);
+    end
+  end
   logic [W-1:0] read_word;
   always_comb begin
     read_word = '0;
-    case (region_q)
-      4'(rheo_consts_pkg::RegionParticleState): begin
-        if (host_particle_ok) read_word = xp_a_data[bank_q][field_q*W +: W];
+    for (int j = 0; j < Lanes; j++) begin
+      for (int f = 0; f < 6; f++) begin
+        if (sel_xp_q[j][f]) read_word = read_word | xp_a_data[j][f*W +: W];
       end
-      4'(rheo_consts_pkg::RegionEdgeLength): begin
-        if (host_edge_ok) read_word = d_a_data[bank_q];
-      end
-      4'(rheo_consts_pkg::RegionEdgeArm): begin
-        if (MaxwellArm != 0 && host_edge_ok) read_word = m_a_data[bank_q];
-      end
-      default: read_word = '0;
-    endcase
+      if (sel_d_q[j]) read_word = read_word | d_a_data[j];
+      if (sel_m_q[j]) read_word = read_word | m_a_data[j];
+    end
   end
 
   logic [W-1:0] status_word;
