@@ -13,10 +13,6 @@ namespace {
 
 using nlohmann::json;
 
-bool starts_with(const std::string& s, const std::string& prefix) {
-  return s.rfind(prefix, 0) == 0;
-}
-
 // What a cell type is to the timing graph.
 enum class Kind {
   kRegister,    // flip-flop: Q launches, data/control inputs capture
@@ -32,17 +28,17 @@ struct CellClass {
 };
 
 CellClass classify(const std::string& type, const Virtex2Delays& d, const std::string& where) {
-  if (starts_with(type, "FD")) return {Kind::kRegister, d.clock_to_out.ns};
-  if (starts_with(type, "RAMB16")) return {Kind::kBlockRam, d.bram_clock_to_out.ns};
+  if (type.starts_with("FD")) return {Kind::kRegister, d.clock_to_out.ns};
+  if (type.starts_with("RAMB16")) return {Kind::kBlockRam, d.bram_clock_to_out.ns};
   if (type == "BUFG") return {Kind::kClockBuffer, 0.0};
   if (type == "LUT1" || type == "LUT2" || type == "LUT3" || type == "LUT4") {
     return {Kind::kLogic, d.lut.ns};
   }
   // Deeper distributed RAMs read through the slice's wide muxes after the LUTs.
-  if (starts_with(type, "RAM16X")) return {Kind::kLutRam, d.lut.ns};
-  if (starts_with(type, "RAM32X")) return {Kind::kLutRam, d.lut.ns + d.wide_mux.ns};
-  if (starts_with(type, "RAM64X")) return {Kind::kLutRam, d.lut.ns + 2 * d.wide_mux.ns};
-  if (starts_with(type, "MUXF")) return {Kind::kLogic, d.wide_mux.ns};
+  if (type.starts_with("RAM16X")) return {Kind::kLutRam, d.lut.ns};
+  if (type.starts_with("RAM32X")) return {Kind::kLutRam, d.lut.ns + d.wide_mux.ns};
+  if (type.starts_with("RAM64X")) return {Kind::kLutRam, d.lut.ns + 2 * d.wide_mux.ns};
+  if (type.starts_with("MUXF")) return {Kind::kLogic, d.wide_mux.ns};
   if (type == "MUXCY") return {Kind::kLogic, d.carry_bit.ns};
   if (type == "XORCY") return {Kind::kLogic, d.carry_sum.ns};
   if (type == "MULT18X18") return {Kind::kLogic, d.multiplier.ns};
@@ -52,14 +48,14 @@ CellClass classify(const std::string& type, const Virtex2Delays& d, const std::s
 }
 
 bool is_clock_pin(const std::string& pin) {
-  return pin == "C" || pin == "WCLK" || starts_with(pin, "CLK");
+  return pin == "C" || pin == "WCLK" || pin.starts_with("CLK");
 }
 
 // Read-address pins of a distributed RAM (A0.., DPRA0..): the only pins with a
 // combinational arc to its outputs.
 bool is_read_address_pin(const std::string& pin) {
   return (pin.size() >= 2 && pin[0] == 'A' && std::isdigit(static_cast<unsigned char>(pin[1]))) ||
-         starts_with(pin, "DPRA");
+         pin.starts_with("DPRA");
 }
 
 // A connection that stays inside a slice (no routed net), see the header.
@@ -67,10 +63,10 @@ bool local_connection(const std::string& driver, const std::string& sink, const 
   if (driver == "INV" || sink == "INV") return driver != "INV";
   if ((sink == "MUXCY" || sink == "XORCY") && pin == "CI") return driver == "MUXCY";
   if ((sink == "MUXCY" && (pin == "S" || pin == "DI")) || (sink == "XORCY" && pin == "LI")) {
-    return starts_with(driver, "LUT");
+    return driver.starts_with("LUT");
   }
-  if (starts_with(sink, "MUXF") && (pin == "I0" || pin == "I1")) {
-    return sink == "MUXF5" ? starts_with(driver, "LUT") : starts_with(driver, "MUXF");
+  if (sink.starts_with("MUXF") && (pin == "I0" || pin == "I1")) {
+    return sink == "MUXF5" ? driver.starts_with("LUT") : driver.starts_with("MUXF");
   }
   return false;
 }
@@ -275,12 +271,15 @@ CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const st
   for (const auto& [name, b] : output_ports) capture(b, name, "output port", "");
   if (worst_bit < 0) throw Error(file + ": no register-to-register path to time in " + top);
 
-  // Walk back from the capture point to the launch.
+  // Walk back from the capture point to the launch, noting the net bit each hop drives
+  // on the path (for the net names below).
   path.period_ns = worst;
   path.hops.push_back({worst_sink, worst_sink_type, worst, "", ""});
   path.routing_ns = net_ns(worst_bit, worst_sink_type, worst_pin);
+  std::vector<int> driven_bit = {-1};  // per hop, in walk order; the capture drives none
   for (int bit = worst_bit;;) {
     const int drv = driver_of.at(bit);
+    driven_bit.push_back(bit);
     if (drv == kPort) {
       path.hops.push_back({"", "input port", delays.clock_to_out.ns, "", ""});
       break;
@@ -300,35 +299,28 @@ CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const st
     bit = in;
   }
   std::reverse(path.hops.begin(), path.hops.end());
-  // Source and a net name for each hop (named nets from the netnames table; the
-  // launch/capture registers keep their own cell's source).
-  {
-    std::unordered_map<int, std::size_t> hop_of_bit;  // output bit on the path -> hop
-    int bit = worst_bit;
-    for (std::size_t h = path.hops.size() - 1; h-- > 0;) {
-      hop_of_bit[bit] = h;
-      const auto drv = driver_of.find(bit);
-      if (drv == driver_of.end() || drv->second == kPort) break;
-      bit = critical_input[drv->second];
-      if (bit < 0) break;
-    }
-    if (module.contains("netnames")) {
-      for (const auto& [name, net] : module["netnames"].items()) {
-        if (name.empty() || name[0] == '$' || !net.contains("bits")) continue;
-        const json& bits = net["bits"];
-        for (std::size_t k = 0; k < bits.size(); ++k) {
-          if (!bits[k].is_number_integer()) continue;
-          const auto it = hop_of_bit.find(bits[k].get<int>());
-          if (it == hop_of_bit.end() || !path.hops[it->second].net.empty()) continue;
-          path.hops[it->second].net =
-              bits.size() == 1 ? name : name + "[" + std::to_string(k) + "]";
-        }
+  std::reverse(driven_bit.begin(), driven_bit.end());
+
+  // A named net for each hop (from the netnames table) and the cell's RTL source.
+  std::unordered_map<int, std::size_t> hop_of_bit;
+  for (std::size_t h = 0; h < driven_bit.size(); ++h) {
+    if (driven_bit[h] >= 0) hop_of_bit[driven_bit[h]] = h;
+  }
+  if (module.contains("netnames")) {
+    for (const auto& [name, net] : module["netnames"].items()) {
+      if (name.empty() || name[0] == '$' || !net.contains("bits")) continue;
+      const json& bits = net["bits"];
+      for (std::size_t k = 0; k < bits.size(); ++k) {
+        if (!bits[k].is_number_integer()) continue;
+        const auto it = hop_of_bit.find(bits[k].get<int>());
+        if (it == hop_of_bit.end() || !path.hops[it->second].net.empty()) continue;
+        path.hops[it->second].net = bits.size() == 1 ? name : name + "[" + std::to_string(k) + "]";
       }
     }
-    for (TimingHop& h : path.hops) {
-      if (!h.cell.empty() && module["cells"].contains(h.cell)) {
-        h.src = rtl_source(module["cells"][h.cell]);
-      }
+  }
+  for (TimingHop& h : path.hops) {
+    if (!h.cell.empty() && module["cells"].contains(h.cell)) {
+      h.src = rtl_source(module["cells"][h.cell]);
     }
   }
   path.logic_ns = path.period_ns - path.routing_ns;
