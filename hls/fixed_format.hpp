@@ -4,7 +4,7 @@
 // all take their numbers from here; rtl/rheo_consts_pkg.sv is generated from this header
 // by `rheo_gen_rtl_pkg` and a test checks that the checked-in copy is up to date.
 //
-// Units (host-side constant folding, design.md §4): lengths are in a length unit Lu
+// Units (host-side constant folding, docs/hardware.md): lengths are in a length unit Lu
 // chosen per model (largest extent / 8), forces in a force unit Fu (largest Voigt
 // stiffness * Lu), time in steps. Velocity is stored as displacement per step
 // p = v*dt/Lu, so the mass-point update is p += F*(Fu dt^2/(m Lu)) + g dt^2/Lu, x += p.
@@ -123,6 +123,11 @@ inline constexpr int kMaxParticles = 4096;
 inline constexpr int kMaxEdges = 65536;  // edge slots (rows * lanes, bubbles included)
 inline constexpr int kMaxMaterials = 16;
 inline constexpr int kMaxLanes = 4;
+// The lane counts every command offers (--lanes) and every backend runs: rtl/CMakeLists.txt
+// builds one Verilator model per count (a model per count keeps the lane count a parameter
+// of the RTL, not a run-time setting), and the bit-true model and synthesis use the same set.
+inline constexpr int kLaneCounts[] = {1, 2, 4};
+inline constexpr int kDefaultLanes = 1;
 
 // Pipeline drains of the core (rtl/rheo_core.sv), part of the cycles-per-step formula,
 // counted from the clock after the last issue until the last write has landed:

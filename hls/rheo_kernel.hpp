@@ -4,7 +4,7 @@
 // iterations; force sums are exact, so their order is free); tests/hw checks the two for
 // exact equality.
 //
-// One step (equations of design.md §3 in folded units, see fixed_format.hpp):
+// One step (equations of docs/model.md in folded units, see fixed_format.hpp):
 //   TEM, per edge k (s -> e), one per clock:
 //     r = x_e - x_s, dp = p_e - p_s, ds = d - L
 //     y = rsqrt(r.r) (seed ROM + Newton-Raphson), l = |r| = r.r * y, u = r * y

@@ -1,4 +1,4 @@
-// Stateless per-edge kernel of the three-element rheological edge (design.md §3),
+// Stateless per-edge kernel of the three-element rheological edge (docs/model.md),
 // written once and templated on the scalar type (double, float, ceres::Jet, ...).
 //
 //   r = x_e - x_s,  l = |r|,  u = r / l,  ldot = u . (v_e - v_s)

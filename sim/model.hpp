@@ -1,4 +1,4 @@
-// Description of a particle-based rheological object (design.md §3) and its state.
+// Description of a particle-based rheological object (docs/model.md) and its state.
 // Plain data shared by every backend: the reference simulator (sim/), the host's
 // conversion to fixed-point images (host/), the scenario loader and the fitters.
 // Units are SI throughout (m, kg, s, N); coordinates are z-up, the floor at z = 0,

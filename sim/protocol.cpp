@@ -19,6 +19,41 @@ double PlateProtocol::displacement_mm(double time) const {
   return plate_mm[lo] + w * (plate_mm[hi] - plate_mm[lo]);
 }
 
+const char* phase_name(PhaseKind kind) {
+  switch (kind) {
+    case PhaseKind::kPush:
+      return "push";
+    case PhaseKind::kHold:
+      return "hold";
+    case PhaseKind::kRelease:
+      return "release";
+    case PhaseKind::kRest:
+      return "rest";
+  }
+  return "?";
+}
+
+std::vector<ProtocolPhase> PlateProtocol::phases() const {
+  std::vector<ProtocolPhase> out;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    const double rise = plate_mm[i] - plate_mm[i - 1];
+    PhaseKind kind;
+    if (rise > 0.0) {
+      kind = PhaseKind::kPush;
+    } else if (rise < 0.0) {
+      kind = PhaseKind::kRelease;
+    } else {
+      kind = plate_mm[i] > 0.0 ? PhaseKind::kHold : PhaseKind::kRest;
+    }
+    if (!out.empty() && out.back().kind == kind) {
+      out.back().t_end = t[i];
+    } else {
+      out.push_back({kind, t[i - 1], t[i]});
+    }
+  }
+  return out;
+}
+
 PlateProtocol PlateProtocol::push_hold_release(double depth_mm, double speed_mm_s, double hold_s,
                                                double after_s) {
   auto check = [](const char* field, double value, bool ok, const char* expected) {

@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "sim/error.hpp"
 #include "sim/scenarios/builtin.hpp"
@@ -124,6 +126,17 @@ class Field {
 // Particle counts per axis. Large enough for the big hardware model (15x15x16) and the
 // tests; small enough that a typo (e.g. 1000) is caught instead of exhausting memory.
 constexpr int kMaxParticlesPerAxis = 200;
+// Whole meshes are limited too: 200 per axis alone allows 8 M particles and ~100 M edges,
+// which runs out of memory (~6 GB) before the first step. 10^6 particles (~13 M edges of a
+// 26-neighbour lattice, ~1.5 GB of model and state) is far beyond what a run finishes in
+// reasonable time (the reference model updates ~75 M edges/s per core).
+constexpr long long kMaxParticles = 1000000;
+// A scenario is a few kB of JSON; reading stops here (a device such as /dev/zero would
+// otherwise be read until memory runs out).
+constexpr std::size_t kMaxScenarioBytes = 1 << 20;
+// A scenario nests 3 levels deep; anything much deeper is not a scenario (and nesting
+// without limit exhausts the stack of any recursive reader or writer).
+constexpr int kMaxNesting = 16;
 
 // "line L, column C" of a byte offset, for malformed-JSON messages.
 std::string line_and_column(const std::string& text, std::size_t byte) {
@@ -157,6 +170,12 @@ void read_mesh(const Field& mesh, BlockSpec& block) {
     // A 2D block has one layer in y: a count given anyway is a sign of a mixed-up file.
     if (mesh.has("ny")) mesh["ny"].fail("no \"ny\" in a 2D mesh (dim 2: one layer in y)");
     block.ny = 1;
+  }
+  const long long particles = 1LL * block.nx * block.ny * block.nz;
+  if (particles > kMaxParticles) {
+    mesh["nx"].fail("a mesh of at most " + std::to_string(kMaxParticles) +
+                    " particles (nx * ny * nz = " + std::to_string(particles) +
+                    "; larger meshes need more memory and time than a run can have)");
   }
   if (mesh.has("fix_bottom")) block.fix_bottom = mesh["fix_bottom"].boolean();
   if (mesh.has("plate_top")) block.plate_top = mesh["plate_top"].boolean();
@@ -262,15 +281,82 @@ void read_output(const Field& output, Scenario& s) {
   }
 }
 
+// Checks, while nlohmann parses, what its own parser accepts but a scenario must not have:
+// nesting beyond kMaxNesting and a key given twice in one object (JSON leaves duplicates
+// undefined; nlohmann keeps the last one silently, which hides a copy-and-paste mistake).
+class StrictJsonCheck {
+ public:
+  explicit StrictJsonCheck(const std::string& file) : file_(file) {}
+  bool operator()(int depth, json::parse_event_t event, json& parsed) {
+    if (depth > kMaxNesting) {
+      throw Error(file_ + ": nested deeper than " + std::to_string(kMaxNesting) +
+                  " levels (a scenario nests 3): not a scenario file");
+    }
+    switch (event) {
+      case json::parse_event_t::object_start:
+        keys_.emplace_back();
+        path_.push_back(pending_key_);
+        break;
+      case json::parse_event_t::object_end:
+        if (!keys_.empty()) keys_.pop_back();
+        if (!path_.empty()) path_.pop_back();
+        break;
+      case json::parse_event_t::array_start:
+        path_.push_back(pending_key_);
+        keys_.emplace_back();  // keeps keys_ and path_ aligned; arrays have no keys
+        break;
+      case json::parse_event_t::array_end:
+        if (!keys_.empty()) keys_.pop_back();
+        if (!path_.empty()) path_.pop_back();
+        break;
+      case json::parse_event_t::key: {
+        pending_key_ = parsed.get<std::string>();
+        if (!keys_.empty() && !keys_.back().insert(pending_key_).second) {
+          std::string where;
+          for (std::size_t i = 1; i < path_.size(); ++i) where += "/" + path_[i];
+          throw Error(file_ + ": " + where + "/" + pending_key_ +
+                      ": key given twice in one object (remove one of them)");
+        }
+        break;
+      }
+      case json::parse_event_t::value:
+        break;
+    }
+    return true;
+  }
+
+ private:
+  const std::string& file_;
+  std::vector<std::set<std::string>> keys_;
+  std::vector<std::string> path_;
+  std::string pending_key_;
+};
+}  // namespace
+
 Scenario parse_scenario(const std::string& text, const std::string& file) {
   json root;
   try {
-    root = json::parse(text);
+    root = json::parse(text, StrictJsonCheck(file));
   } catch (const json::parse_error& e) {
     // nlohmann's message carries the byte offset; users want line and column.
+    // nlohmann's text ends "...; last read: 'TOKEN'": keep what the parser expected and
+    // the token, drop the "[json.exception...] parse error at line 1, column 9" prefix.
     std::string detail = e.what();
-    const std::size_t colon = detail.rfind(": ");
-    if (colon != std::string::npos) detail = detail.substr(colon + 2);
+    const std::size_t syntax = detail.find("syntax error");
+    if (syntax != std::string::npos) detail = detail.substr(syntax);
+    // NaN and Infinity are what a program writing JSON most often emits by mistake; the
+    // parser only says it read 'N' or 'I'.
+    const std::size_t last = detail.find("last read: '");
+    if (last != std::string::npos && last + 12 < detail.size()) {
+      // The token runs from after the last separator to the closing quote.
+      std::string token = detail.substr(last + 12);
+      if (!token.empty() && token.back() == '\'') token.pop_back();
+      const std::size_t start = token.find_last_of(" :,[{");
+      if (start != std::string::npos) token = token.substr(start + 1);
+      if (token.rfind("N", 0) == 0 || token.rfind("I", 0) == 0 || token.rfind("-I", 0) == 0) {
+        detail += " (NaN and Infinity are not JSON numbers: write a finite number)";
+      }
+    }
     throw Error(file + ":" + line_and_column(text, e.byte) + ": malformed JSON: " + detail);
   } catch (const json::out_of_range& e) {
     // A number beyond the double range (e.g. 1e999): nlohmann names the literal but not
@@ -301,8 +387,6 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
   if (top.has("duration_s")) s.duration_s = top["duration_s"].positive(" [s]");
   return s;
 }
-
-}  // namespace
 
 Model Scenario::build_model() const {
   Model model = make_block(block);
@@ -341,9 +425,14 @@ Scenario load_scenario(const std::string& name_or_path) {
     throw Error(name_or_path + ": no such built-in scenario (" + known +
                 ") and no readable scenario file");
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_scenario(text.str(), name_or_path);
+  std::string text(kMaxScenarioBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxScenarioBytes) {
+    throw Error(name_or_path + ": larger than " + std::to_string(kMaxScenarioBytes >> 10) +
+                " KiB; a scenario file is a few kB of JSON (is this the right file?)");
+  }
+  return parse_scenario(text, name_or_path);
 }
 
 }  // namespace rheo

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/driver/core_image.hpp"
 #include "host/driver/device.hpp"
@@ -187,12 +188,18 @@ void register_bench_link(CLI::App& app) {
       "full state every step vs plate in / force out with the state every K steps, and the\n"
       "link rate a board needs for 10 kHz steps. Prints a Markdown table.");
   cmd->add_option("--scenario", args->scenarios, "Scenarios to measure (default block5 block15)");
-  cmd->add_option("--steps", args->steps_stream, "Steps of each streaming run");
-  cmd->add_option("--full-steps", args->steps_full, "Steps of each full-state run");
+  // The plate history of a run is held in memory (4 bytes a step); 10^7 steps already take
+  // minutes through the socket. A window beyond 2^16 steps only fills the socket buffers.
+  cmd->add_option("--steps", args->steps_stream, "Steps of each streaming run")
+      ->check(whole_number_in(1, 10'000'000, "a number of steps"));
+  cmd->add_option("--full-steps", args->steps_full, "Steps of each full-state run")
+      ->check(whole_number_in(1, 1'000'000, "a number of steps"));
   cmd->add_option("--state-every", args->state_every, "K: state every K steps in stream mode")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--window", args->window, "Steps in flight at most")->check(CLI::PositiveNumber);
-  cmd->add_option("--chunk", args->chunk, "Steps per run command")->check(CLI::PositiveNumber);
+      ->check(whole_number_in(1, 1'000'000, "a step interval"));
+  cmd->add_option("--window", args->window, "Steps in flight at most")
+      ->check(whole_number_in(1, 65'536, "a number of steps in flight"));
+  cmd->add_option("--chunk", args->chunk, "Steps per run command")
+      ->check(whole_number_in(1, 65'536, "a number of steps per command"));
   cmd->add_option("--socket", args->socket,
                   "Measure through a running rheo cosim-server at this path instead of the "
                   "built-in null-core server");

@@ -1,17 +1,19 @@
 // `rheo cosim`: runs the RTL core (Verilator) and the bit-true model on identical frames,
 // compares every particle state word and plate-force word at every step, runs the double
 // reference alongside and writes DIR/cosim.json.
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "hls/fixed_format.hpp"
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
+#include "host/output/json_text.hpp"
+#include "host/output/staged_directory.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
 #ifdef RHEO_HAVE_RTL
@@ -22,13 +24,27 @@
 namespace rheo::cli {
 namespace {
 
+#ifdef RHEO_HAVE_RTL
+// rheo-gtkw-filter is built beside rheo; the save file names it by its absolute path.
+std::string gtkw_filter_path() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path filter = self.parent_path() / "rheo-gtkw-filter";
+  if (ec || !fs::exists(filter))
+    throw Error("cosim: rheo-gtkw-filter is not beside " + self.string() +
+                " (it shows the waveform's fixed-point words in mm, m/s and N)");
+  return filter.string();
+}
+#endif
+
 struct CosimArgs {
   std::string scenario;
-  long steps = 0;
-  int lanes = 1;
+  std::optional<long long> steps;
+  int lanes = hls::kDefaultLanes;
   std::string trace;
   long trace_steps = 100;
-  std::string out;
+  OutputOptions output;
   int compare_every = 1;
   bool quiet = false;
   bool maxwell_arm = false;
@@ -42,26 +58,18 @@ void run(const CosimArgs& args) {
   namespace fs = std::filesystem;
   const Scenario scenario = load_scenario(args.scenario);
   driver::CosimOptions opt;
-  opt.steps = args.steps > 0 ? args.steps : scenario.default_steps();
+  opt.steps = args.steps ? static_cast<long>(*args.steps) : scenario.default_steps();
   opt.lanes = args.lanes;
-  opt.trace_fst = args.trace;
   opt.trace_steps = args.trace_steps;
   opt.compare_every = args.compare_every;
   opt.maxwell_arm = args.maxwell_arm;
-  const bool show = !args.quiet && isatty(STDERR_FILENO);
-  const auto start = std::chrono::steady_clock::now();
-  if (show) {
-    opt.progress = [&](long step) {
-      if (step % 200 != 0 && step != opt.steps) return;
-      const double s =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::cerr << "\rcosim: step " << step << "/" << opt.steps << " (" << int(step / s)
-                << " steps/s)   " << std::flush;
-    };
-  }
-  fs::create_directories(args.out);
+  output::StagedDirectory out(args.output.out, args.output.force);
+  // A waveform named inside --out is written into the staged directory with the rest.
+  opt.trace_fst = args.trace.empty() ? "" : out.map(args.trace);
+  Progress progress("step", opt.steps, progress_enabled(args.quiet));
+  opt.progress = [&progress](long step) { progress.update(step); };
   const driver::CosimResult r = driver::run_cosim(scenario, opt);
-  if (show) std::cerr << "\n";
+  progress.finish();
 
   nlohmann::json j;
   j["scenario"] = scenario.name;
@@ -95,7 +103,16 @@ void run(const CosimArgs& args) {
     j["trace"] = args.trace;
     j["trace_steps"] = args.trace_steps == 0 ? r.steps : std::min(args.trace_steps, r.steps);
   }
-  std::ofstream(fs::path(args.out) / "cosim.json") << j.dump(2) << "\n";
+  const fs::path json_path = fs::path(out.path()) / "cosim.json";
+  std::ofstream json_file(json_path);
+  json_file << output::json_text(j) << "\n";
+  if (!json_file.flush()) throw Error(json_path.string() + ": write failed");
+  json_file.close();
+  // The save file names the FST where it will be after the commit.
+  if (!args.trace.empty()) driver::write_trace_gtkw(r, opt, gtkw_filter_path(), args.trace);
+  // A mismatch is a result too: cosim.json (and the waveform) are kept for the
+  // investigation, and the command still fails.
+  out.commit();
 
   std::cout << "cosim " << scenario.name << ": " << r.steps << " steps, " << r.lanes
             << " lane(s), mismatches " << r.mismatches << "\n"
@@ -104,7 +121,16 @@ void run(const CosimArgs& args) {
             << r.max_force_err_rel << " of the peak\n"
             << "  cycles per step: measured " << r.cycles_per_step_measured << ", formula "
             << r.cycles_per_step_formula << "; Verilator " << r.sim_cycles_per_s << " cycles/s\n"
-            << "  wrote " << (fs::path(args.out) / "cosim.json").string() << "\n";
+            << "  wrote " << (fs::path(out.target()) / "cosim.json").string() << "\n";
+  // The waveform comes last, so that its path is the last thing on the screen (also when
+  // the run found a mismatch: that is when it is wanted).
+  if (!args.trace.empty()) {
+    const std::string gtkw = fs::path(args.trace).replace_extension(".gtkw").string();
+    std::cout << "  waveform: " << args.trace << " (steps " << r.traced.front().first_step << ".."
+              << r.traced.back().first_step + r.traced.back().steps - 1 << "), save file " << gtkw
+              << "\n"
+              << "  gtkwave " << args.trace << " " << gtkw << "\n";
+  }
   if (r.mismatches > 0) {
     std::cerr << "cosim: first mismatch at " << r.first.front().describe() << "\n";
     throw Error("cosim: RTL and bit-true model differ (" + std::to_string(r.mismatches) +
@@ -123,19 +149,20 @@ void register_cosim(CLI::App& app) {
       "check every particle state word and plate-force word for equality at every step, "
       "compare with the double reference model and write DIR/cosim.json.");
   cmd->add_option("--scenario", args->scenario, "built-in scenario name or JSON file")->required();
-  cmd->add_option("--steps", args->steps, "number of steps (default: the scenario's duration)");
-  cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of the core (1, 2 or 4)")
-      ->check(CLI::IsMember({1, 2, 4}));
+  add_steps_option(cmd, args->steps, "number of steps (default: the scenario's duration)");
+  add_lanes_option(cmd, args->lanes, "the core");
   cmd->add_option("--trace", args->trace,
-                  "write an FST waveform to this file (open with scripts/rheo_core.gtkw)");
+                  "write an FST waveform to this file and a GTKWave save file beside it "
+                  "(FILE.fst -> FILE.gtkw: opens on step 1, words in mm, m/s and N)");
   cmd->add_option("--trace-steps", args->trace_steps,
                   "steps covered by the waveform, from the start (default 100, 0 = all: about "
-                  "0.8 MB per step on block5)");
+                  "0.8 MB per step on block5)")
+      ->check(whole_number_in(0, kMaxSteps, "a number of steps (0: all)"));
   cmd->add_option("--compare-every", args->compare_every,
                   "read back and compare the RTL particle state every K steps (default 1)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--out", args->out, "output directory")->required();
-  cmd->add_flag("--quiet", args->quiet, "no progress on stderr");
+  add_output_options(cmd, args->output);
+  cmd->add_flag("--quiet,-q", args->quiet, "no progress on stderr");
   cmd->add_flag("--maxwell-arm", args->maxwell_arm,
                 "run the core variant with the parallel Maxwell arm (MaxwellArm = 1, 1 lane): "
                 "the scenario's k2/c3 arm is computed instead of dropped");

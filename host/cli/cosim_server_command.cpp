@@ -1,13 +1,19 @@
 // `rheo cosim-server --socket PATH [--lanes L]`: the RTL core (Verilator) in its own process
 // behind a Unix-domain socket, speaking the link frames (docs/transport.md) a board would.
 // Serves one host at a time, each with a freshly reset core, until a host sends shutdown or
-// the process gets SIGINT/SIGTERM; the socket file is removed on the way out.
+// the process gets SIGINT/SIGTERM; the socket file is removed on the way out. Further hosts
+// are answered "busy" at once; a host silent for --idle-timeout-s loses its session.
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <string>
 
+#include "hls/fixed_format.hpp"
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/driver/bittrue_transport.hpp"
 #include "host/driver/link/cosim_server.hpp"
@@ -22,13 +28,17 @@ namespace rheo::cli {
 namespace {
 
 std::atomic<bool> g_stop{false};
+// A day: longer than any host thinks between commands, short enough that the milliseconds
+// fit the clock's arithmetic with room to spare.
+constexpr double kMaxIdleTimeoutS = 86400;
 extern "C" void on_stop_signal(int) { g_stop = true; }
 
 struct CosimServerArgs {
   std::string socket;
-  int lanes = 1;
+  int lanes = hls::kDefaultLanes;
   std::string core = "rtl";
   int timeout_ms = 10000;
+  double idle_timeout_s = 60;
   bool quiet = false;
 };
 
@@ -61,13 +71,16 @@ void run_cosim_server(const CosimServerArgs& args) {
   link::ServerOptions options;
   options.lanes = static_cast<std::uint32_t>(args.lanes);
   options.io_timeout = link::Milliseconds(args.timeout_ms);
+  options.idle_timeout =
+      link::Milliseconds(std::max<long long>(1, std::llround(args.idle_timeout_s * 1000.0)));
   options.stop = &g_stop;
   if (!args.quiet) {
     options.log = [](const std::string& line) {
       std::cerr << "rheo cosim-server: " << line << "\n";
     };
     std::cerr << "rheo cosim-server: listening on " << args.socket << " (" << args.core << " core, "
-              << args.lanes << " lane" << (args.lanes == 1 ? "" : "s") << ")\n";
+              << args.lanes << " lane" << (args.lanes == 1 ? "" : "s") << ", idle timeout "
+              << args.idle_timeout_s << " s)\n";
   }
   link::serve(listener, make_core, options);
   std::signal(SIGINT, old_int);
@@ -84,11 +97,11 @@ void register_cosim_server(CLI::App& app) {
       "Run the RTL core (Verilator) in this process behind a Unix-domain socket; hosts connect\n"
       "with --backend remote:PATH and talk to it in link frames (header, sequence, CRC-32),\n"
       "as they would to a board. Serves hosts one after another until one sends shutdown or\n"
-      "SIGINT/SIGTERM arrives.");
+      "SIGINT/SIGTERM arrives; a host that connects while another is served is told at once\n"
+      "that the server is busy.");
   cmd->add_option("--socket", args->socket, "Path of the Unix-domain socket to listen on")
       ->required();
-  cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of the core")
-      ->check(CLI::IsMember({1, 2, 4}));
+  add_lanes_option(cmd, args->lanes, "the core");
   cmd->add_option("--core", args->core,
                   "Core behind the socket: rtl (Verilator, default), bittrue (the bit-true "
                   "model, for link tests without Verilator) or null (answers with zeros "
@@ -97,6 +110,19 @@ void register_cosim_server(CLI::App& app) {
   cmd->add_option("--timeout-ms", args->timeout_ms,
                   "Longest wait for a hello or for the rest of a begun frame")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--idle-timeout-s", args->idle_timeout_s,
+                  "Close a session whose host sends nothing between frames for this many "
+                  "seconds, freeing the core for the next host (default 60)")
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            // The parsed value is checked again here: CLI11 accepts "inf" and "nan" as
+            // numbers, and a limit beyond a day is a forgotten session, not a choice.
+            const double s = std::strtod(text.c_str(), nullptr);
+            if (std::isfinite(s) && s > 0 && s <= kMaxIdleTimeoutS) return "";
+            return "must be a number of seconds above 0 and at most " +
+                   std::to_string(int(kMaxIdleTimeoutS)) + ", got '" + text + "'";
+          },
+          "SECONDS", "idle timeout"));
   cmd->add_flag("--quiet", args->quiet, "No session log on stderr");
   cmd->callback([args] { run_cosim_server(*args); });
 }

@@ -1,12 +1,16 @@
 // `rheo diagnose FIT.csv [--holdout H.csv ...] --out DIR`: name what the three-element
-// model gets wrong, extend it and measure the gain on held-out data (design.md §7).
+// model gets wrong, extend it and measure the gain on held-out data (diagnosis.json and
+// the cause vocabulary: docs/data-format.md).
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
+#include "host/cli/import_options.hpp"
 #include "host/identify/diagnose.hpp"
 #include "host/identify/measurement.hpp"
+#include "host/output/staged_directory.hpp"
 
 namespace rheo::cli {
 
@@ -14,8 +18,10 @@ void register_diagnose(CLI::App& app) {
   struct Args {
     std::vector<std::string> files;
     std::vector<std::string> holdout;
-    std::string out;
+    OutputOptions output;
+    bool quiet = false;
     double max_dt = 0.1;
+    std::string geometry, strain, as;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -23,31 +29,46 @@ void register_diagnose(CLI::App& app) {
       "Fit the baseline three-element model, analyse residuals by phase, fit each candidate "
       "extension (second_relaxation_time, force_dependent_damping, strain_hardening, "
       "sensor_lag, sensor_offset), pick by AIC confirmed on held-out data; writes "
-      "DIR/diagnosis.json, DIR/report.md and plots.");
+      "DIR/diagnosis.json, DIR/report.md and plots. Input formats, diagnosis.json and the "
+      "cause vocabulary: docs/data-format.md.");
   cmd->add_option("files", args->files, "measurement files to fit")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--holdout", args->holdout, "held-out measurement files")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--out", args->out, "output directory")->required();
-  cmd->add_option("--max-dt", args->max_dt, "largest time step of the specimen model [s]")
-      ->capture_default_str();
+  add_output_options(cmd, args->output);
+  cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
+  add_max_dt_option(cmd, args->max_dt);
+  add_import_options(cmd, args->geometry, args->strain, args->as);
   cmd->callback([args]() {
     using namespace rheo::identify;
+    const ImportOptions import = import_options(args->geometry, args->strain, args->as);
     std::vector<Measurement> fit_data, holdout;
-    for (const auto& f : args->files) fit_data.push_back(load_any(f));
-    for (const auto& f : args->holdout) holdout.push_back(load_any(f));
+    for (const auto& f : args->files) fit_data.push_back(load_any(f, import));
+    for (const auto& f : args->holdout) holdout.push_back(load_any(f, import));
+    for (const auto& m : fit_data) std::cout << "input " << describe_import(m);
+    for (const auto& m : holdout) std::cout << "held-out input " << describe_import(m);
+    output::StagedDirectory out(args->output.out, args->output.force);
     DiagnoseOptions options;
     options.fit.simulation.max_dt = args->max_dt;
+    Progress progress("model fits", 0, progress_enabled(args->quiet));
+    options.on_model_fitted = [&progress](int done, int total) {
+      progress.set_total(total);
+      progress.update(done);
+    };
     const Diagnosis d = diagnose(fit_data, holdout, options);
-    write_diagnosis(args->out, d, fit_data, holdout, options);
+    progress.finish();
+    write_diagnosis(out.path(), d, fit_data, holdout, options);
+    out.commit();
     const auto j = diagnosis_json(d);
     std::cout << "finding: " << j["finding"]["cause"].get<std::string>() << "\n"
               << "evidence: " << d.evidence << "\n"
               << "gain: holdout_rmse_ratio " << j["gain"]["holdout_rmse_ratio"].dump()
               << ", delta_aic " << j["gain"]["delta_aic"].dump() << "\n"
-              << "diagnosis took " << d.seconds << " s; wrote " << args->out
-              << "/diagnosis.json and " << args->out << "/report.md\n";
+              << unidentifiable_warnings(d.baseline)
+              << (d.chosen < 0 ? std::string() : unidentifiable_warnings(d.extended()))
+              << "diagnosis took " << d.seconds << " s; wrote " << out.target()
+              << "/diagnosis.json and " << out.target() << "/report.md\n";
   });
 }
 

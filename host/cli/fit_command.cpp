@@ -3,10 +3,13 @@
 #include <string>
 #include <vector>
 
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
+#include "host/cli/import_options.hpp"
 #include "host/identify/diagnose.hpp"
 #include "host/identify/fit.hpp"
 #include "host/identify/measurement.hpp"
+#include "host/output/staged_directory.hpp"
 
 namespace rheo::cli {
 
@@ -14,44 +17,61 @@ void register_fit(CLI::App& app) {
   struct Args {
     std::vector<std::string> files;
     std::string model = "three_element";
-    std::string out;
+    OutputOptions output;
+    bool quiet = false;
     double max_dt = 0.1;
+    std::string geometry, strain, as;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "fit",
       "Fit the specimen model (the reference edge kernel on a coarse column of the specimen, "
       "driven by each file's plate_mm history) to force_N (and surface_mm where present) with "
-      "Ceres; writes DIR/fit.json (values, 95 % intervals, bound flags) and DIR/fit_*.png.\n"
-      "Files: measurement CSV (design.md §7), relaxation-modulus tables, rheometer exports.");
+      "Ceres; writes DIR/fit.json (values, 95 % intervals, bound and identifiability flags, "
+      "assumptions) and DIR/fit_*.png.\n"
+      "Files: measurement CSV, relaxation-modulus tables, rheometer step-strain exports; the "
+      "test type is recognised from the column names and units, flow curves, frequency sweeps "
+      "and creep tests are refused. Formats, assumptions and outputs: docs/data-format.md.");
   cmd->add_option("files", args->files, "measurement files")->required()->check(CLI::ExistingFile);
   cmd->add_option("--model", args->model,
                   "three_element, second_relaxation_time, force_dependent_damping, "
                   "strain_hardening, sensor_lag or sensor_offset")
       ->capture_default_str();
-  cmd->add_option("--out", args->out, "output directory")->required();
-  cmd->add_option("--max-dt", args->max_dt, "largest time step of the specimen model [s]")
-      ->capture_default_str();
+  add_output_options(cmd, args->output);
+  cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
+  add_max_dt_option(cmd, args->max_dt);
+  add_import_options(cmd, args->geometry, args->strain, args->as);
   cmd->callback([args]() {
     using namespace rheo::identify;
+    const ImportOptions import = import_options(args->geometry, args->strain, args->as);
     std::vector<Measurement> data;
-    for (const auto& f : args->files) data.push_back(load_any(f));
+    for (const auto& f : args->files) data.push_back(load_any(f, import));
+    for (const auto& m : data) std::cout << "input " << describe_import(m);
+    output::StagedDirectory out(args->output.out, args->output.force);
     FitOptions options;
     options.simulation.max_dt = args->max_dt;
+    // Fits have no fixed length: the display counts solver iterations against their limit.
+    Progress progress("fit", 0, progress_enabled(args->quiet));
+    options.progress = [&progress](const FitProgress& p) {
+      progress.stage(p.model + ": start " + std::to_string(p.start) + " of " +
+                     std::to_string(p.starts) + ", iteration " + std::to_string(p.iteration) +
+                     " of at most " + std::to_string(p.max_iterations));
+    };
     const ModelSpec spec = model_spec(extension_from_name(args->model), data_scales(data));
     const FitResult r = fit_model(data, spec, {}, options);
-    write_fit(args->out, r, data, options);
+    progress.finish();
+    write_fit(out.path(), r, data, options);
+    out.commit();
     std::cout << "model " << spec.name() << ": rmse " << r.rmse_force_N << " N, AIC " << r.aic
               << "\n";
     for (const auto& e : r.estimates) {
       std::cout << "  " << e.name << " = " << e.value;
-      if (!e.at_bound.empty())
-        std::cout << "  (at " << e.at_bound << " bound)";
-      else if (e.ci_low)
-        std::cout << "  [" << *e.ci_low << ", " << *e.ci_high << "]";
+      if (e.ci_low) std::cout << "  [" << *e.ci_low << ", " << *e.ci_high << "]";
+      if (!e.unidentifiable.empty()) std::cout << "  NOT IDENTIFIABLE";
       std::cout << "\n";
     }
-    std::cout << "wrote " << args->out << "/fit.json\n";
+    std::cout << unidentifiable_warnings(r);
+    std::cout << "wrote " << out.target() << "/fit.json\n";
   });
 }
 

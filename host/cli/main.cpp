@@ -5,10 +5,18 @@
 #include "host/cli/commands.hpp"
 #include "sim/error.hpp"
 
+#ifdef RHEO_HAVE_RTL
+#define RHEO_WITH_RTL_TEXT ", with the RTL model"
+#else
+#define RHEO_WITH_RTL_TEXT ", built without the RTL model"
+#endif
+
 int main(int argc, char** argv) {
   CLI::App app{
       "rheo: real-time rheological objects (three-element particle models) on a reference\n"
       "simulator, a bit-true fixed-point model and an RTL core in Verilator."};
+  app.set_version_flag("--version", std::string("rheo ") + RHEO_VERSION + " (commit " +
+                                        RHEO_GIT_DESCRIBE + (RHEO_WITH_RTL_TEXT) + ")");
   app.require_subcommand(1);
   rheo::cli::register_simulate(app);
   rheo::cli::register_fit(app);
@@ -24,6 +32,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const rheo::Error& e) {
+    std::cerr << "rheo: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    // Anything else (a file system or allocation failure) still ends with a message and a
+    // non-zero exit, never an abort.
     std::cerr << "rheo: error: " << e.what() << "\n";
     return 1;
   }

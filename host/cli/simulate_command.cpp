@@ -1,10 +1,9 @@
 // `rheo simulate`: runs a scenario on the double-precision reference model (or, with
 // --backend, on the bit-true model, the RTL core or a cosim-server) and writes the
-// plate force history (design.md §7 CSV), a VTK time series and a PNG plot into --out.
+// plate force history (docs/data-format.md CSV), a VTK time series and a PNG plot into --out.
 // Everything is staged in a temporary directory and moved into place only after the
 // whole run succeeded, so a failure (bad input, unstable dt, non-finite state, Ctrl-C)
 // never leaves files that look like results.
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -19,10 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "hls/fixed_format.hpp"
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/driver/link/backend_run.hpp"
 #include "host/output/force_csv.hpp"
 #include "host/output/gnuplot_plot.hpp"
+#include "host/output/run_summary.hpp"
 #include "host/output/staged_directory.hpp"
 #include "host/output/vtk_series.hpp"
 #include "sim/error.hpp"
@@ -37,14 +39,13 @@ using Clock = std::chrono::steady_clock;
 
 struct SimulateArgs {
   std::string scenario;
-  std::string out;
+  OutputOptions output;
   std::optional<double> duration_s;
   std::optional<long long> steps;
   bool quiet = false;
-  bool force = false;
   bool no_plot = false;
   std::string backend = "ref";  // ref | bittrue | rtl | remote:PATH
-  int lanes = 1;
+  int lanes = hls::kDefaultLanes;
 };
 
 // Ctrl-C during a long run: finish the current step, then fail like any other error so
@@ -67,38 +68,6 @@ class InterruptGuard {
  private:
   void (*old_int_)(int);
   void (*old_term_)(int);
-};
-
-// Progress on stderr, only when it is a terminal: steps/s and ETA, redrawn at most
-// kRedrawsPerSecond times a second so that printing never costs noticeable time.
-class Progress {
- public:
-  Progress(long long total, bool enabled) : total_(total), enabled_(enabled) {
-    start_ = last_ = Clock::now();
-  }
-  void update(long long done) {
-    if (!enabled_) return;
-    const auto now = Clock::now();
-    if (now - last_ < std::chrono::milliseconds(1000 / kRedrawsPerSecond)) return;
-    last_ = now;
-    const double elapsed = std::chrono::duration<double>(now - start_).count();
-    const double rate = done / std::max(elapsed, 1e-9);
-    const double eta = (total_ - done) / std::max(rate, 1e-9);
-    std::fprintf(stderr, "\r  step %lld / %lld (%3.0f %%)  %.0f steps/s  ETA %.0f s   ", done,
-                 total_, 100.0 * done / total_, rate, eta);
-    std::fflush(stderr);
-    drawn_ = true;
-  }
-  void finish() {
-    if (drawn_) std::fprintf(stderr, "\r%80s\r", "");
-  }
-
- private:
-  static constexpr int kRedrawsPerSecond = 4;
-  long long total_;
-  bool enabled_;
-  bool drawn_ = false;
-  Clock::time_point start_, last_;
 };
 
 // The particles whose downward displacement is "the top surface at its centre" (§7):
@@ -158,12 +127,11 @@ void run_simulate(const SimulateArgs& args) {
   const double dt = scenario.options.dt;
   long long steps = scenario.default_steps();
   if (args.steps) steps = *args.steps;
-  if (args.duration_s) steps = static_cast<long long>(std::ceil(*args.duration_s / dt - 1e-9));
-  if (steps < 1) throw Error("nothing to simulate: --steps/--duration give no step");
+  if (args.duration_s) steps = steps_for_duration(*args.duration_s, dt, "--duration");
 
   // The simulator refuses an unstable dt before anything is created on disk.
   Simulator sim(model, scenario.options);
-  output::StagedDirectory out(args.out, args.force);
+  output::StagedDirectory out(args.output.out, args.output.force);
   const std::string dir = out.path();
 
   const double run_s = steps * dt;
@@ -190,21 +158,33 @@ void run_simulate(const SimulateArgs& args) {
       {"edges", std::to_string(model.num_edges())},
   };
   output::ForceCsvWriter csv(dir + "/force.csv", specimen, extra, time_decimals(csv_interval));
-  output::VtkSeriesWriter vtk(dir, "vtk", "mesh.pvd");
+  // Fixed-point backends read back positions and velocities, not the edges' Voigt lengths:
+  // their frames leave out edge tension and stress instead of writing zeros.
+  output::FrameContent vtk_content;
+  if (args.backend != "ref") {
+    vtk_content.edge_states = false;
+    vtk_content.absent_reason =
+        "the fixed-point core's edge Voigt lengths are not read back, so edge tensions cannot be "
+        "computed on the host";
+  }
+  output::VtkSeriesWriter vtk(model, dir, vtk_content);
+  auto plate_frame = [&](double plate_mm, double force_N) {
+    return output::PlateFrame{model.height - plate_mm * 1e-3, plate_mm * 1e-3, force_N};
+  };
 
   // The first row and frame: the object at rest before the plate moves.
   csv.write_row(0.0, scenario.protocol.displacement_mm(0.0), 0.0,
                 surface_displacement_mm(model, sim.state(), centre));
-  vtk.write_frame(model, sim.state());
+  vtk.write_frame(sim.state(), plate_frame(scenario.protocol.displacement_mm(0.0), 0.0));
 
   InterruptGuard interrupt_guard;
-  Progress progress(steps, !args.quiet && isatty(STDERR_FILENO));
+  Progress progress("step", steps, progress_enabled(args.quiet));
   // Row and frame times are multiples of their intervals; comparing with a small slack
   // keeps rounding in i * dt from skipping one.
   const double slack = 1e-9 * dt;
   double next_csv = csv_interval, next_vtk = vtk_interval;
-  double peak_force = 0.0, peak_time = 0.0;
-  double final_surface_mm = 0.0;
+  output::RunSummary figures(scenario.protocol);
+  figures.add(0.0, 0.0, 0.0);
   const auto start = Clock::now();
   // One step's result, whatever computed it: the CSV row, the VTK frame and the progress.
   auto record = [&](long long i, double plate_mm, double force_N, const State* state) {
@@ -213,37 +193,34 @@ void run_simulate(const SimulateArgs& args) {
       throw Error("non-finite plate force at step " + std::to_string(i) + " (t = " + format(t) +
                   " s): the run is numerically unstable");
     }
-    if (force_N > peak_force) {
-      peak_force = force_N;
-      peak_time = t;
-    }
+    figures.add(t, force_N,
+                state ? surface_displacement_mm(model, *state, centre)
+                      : std::numeric_limits<double>::quiet_NaN());
     if (t >= next_csv - slack || i == steps) {
       // Fixed-point backends return positions only every few steps; surface_mm stays
-      // empty (design.md §7) on the rows in between.
+      // empty (docs/data-format.md) on the rows in between.
       csv.write_row(t, plate_mm, force_N,
                     state ? surface_displacement_mm(model, *state, centre)
                           : std::numeric_limits<double>::quiet_NaN());
       while (next_csv <= t + slack) next_csv += csv_interval;
     }
     if (state && (t >= next_vtk - slack || i == steps)) {
-      vtk.write_frame(model, *state);
+      vtk.write_frame(*state, plate_frame(plate_mm, force_N));
       while (next_vtk <= t + slack) next_vtk += vtk_interval;
     }
-    if (state) final_surface_mm = surface_displacement_mm(model, *state, centre);
     if (g_interrupted) throw Error("interrupted at step " + std::to_string(i) + "; no output kept");
     progress.update(i);
   };
 
   if (args.backend == "ref") {
     for (long long i = 1; i <= steps; ++i) {
-      // Time from the step count, not by summing dt, so long runs do not drift.
-      const double plate_mm = scenario.protocol.displacement_mm(i * dt);
-      const StepReport report = sim.step(model.height - plate_mm * 1e-3);
+      const double plate_mm = scenario.plate_mm(i);
+      const StepReport report = sim.step(scenario.plate_z(model, i));
       record(i, plate_mm, report.plate_force_N, &sim.state());
     }
   } else {
-    // Fixed-point backends stream the plate in and the force out every step; positions come
-    // back every vtk-frame interval (velocities are not read back: VTK velocity is zero).
+    // Fixed-point backends stream the plate in and the force out every step; positions and
+    // velocities come back every vtk-frame interval.
     link::BackendRunOptions options;
     options.backend = args.backend;
     options.lanes = args.lanes;
@@ -265,8 +242,10 @@ void run_simulate(const SimulateArgs& args) {
       pending_plate = s.plate_mm;
       pending_force = s.force_N;
     };
-    callbacks.positions = [&](std::uint64_t done, const std::vector<Vec3>& positions) {
+    callbacks.state = [&](std::uint64_t done, const std::vector<Vec3>& positions,
+                          const std::vector<Vec3>& velocities) {
       frame.x = positions;
+      frame.v = velocities;
       frame.t = static_cast<double>(done) * dt;
       if (pending_step == static_cast<long long>(done)) {
         flush(&frame);
@@ -295,12 +274,19 @@ void run_simulate(const SimulateArgs& args) {
   std::cout << "rheo simulate: " << scenario.name << ", " << model.num_particles() << " particles, "
             << model.num_edges() << " edges, " << steps << " steps of " << format(dt) << " s ("
             << format(run_s) << " s simulated) in " << format(wall_s, "%.2f") << " s ("
-            << format(steps / std::max(wall_s, 1e-9), "%.0f") << " steps/s)\n"
-            << "  peak force " << format(peak_force) << " N at t = " << format(peak_time)
-            << " s; top surface at the end " << format(final_surface_mm, "%.4f") << " mm down\n"
-            << "  force CSV:  " << target << "/force.csv\n"
+            << format(steps / std::max(wall_s, 1e-9), "%.0f") << " steps/s)\n";
+  for (const std::string& line : figures.lines()) std::cout << "  " << line << "\n";
+  std::cout << "  force CSV:  " << target << "/force.csv\n"
             << "  VTK series: " << target << "/mesh.pvd (" << vtk.frames() << " frames in "
             << target << "/vtk/, open the .pvd in ParaView)\n";
+  if (const std::vector<std::string> absent = vtk.absent_arrays(); !absent.empty()) {
+    std::cout << "  VTK note:   no";
+    for (std::size_t i = 0; i < absent.size(); ++i) std::cout << (i ? ", " : " ") << absent[i];
+    std::cout << " in the frames: "
+              << (vtk_content.absent_reason.empty() ? "the 2-D model has no depth (top area)"
+                                                    : vtk_content.absent_reason)
+              << "\n";
+  }
   if (!args.no_plot) {
     std::cout << "  plot:       " << target << "/plot.png (script " << target << "/plot.gp)\n";
   }
@@ -314,37 +300,29 @@ void register_simulate(CLI::App& app) {
       "simulate",
       "Run a scenario (mesh, material, plate protocol) on the double-precision reference model "
       "(or, with --backend, on the bit-true model, the RTL core or a cosim-server) and write into "
-      "--out: force.csv (plate force history, design.md section 7 columns "
-      "time_s,plate_mm,force_N,surface_mm), mesh.pvd + vtk/*.vtu (VTK time series for "
-      "ParaView: particles, edges, velocity, edge tension) and plot.png (force and "
+      "--out: force.csv (plate force history, docs/data-format.md columns "
+      "time_s,plate_mm,force_N,surface_mm), mesh.pvd + edges.pvd + vtk/*.vtu (VTK time series for "
+      "ParaView: the object's cells with displacement, velocity, strain and stress, the plate, "
+      "the edge lattice with edge tension; docs/output.md) and plot.png (force and "
       "displacements against time, drawn by gnuplot). Results are staged in a temporary "
       "directory and appear in --out only when the whole run succeeded.");
   cmd->add_option("--scenario", args->scenario,
                   "built-in scenario name (see `rheo scenarios`) or path to a JSON scenario file")
       ->required();
-  cmd->add_option("--out", args->out,
-                  "output directory; must not exist or be empty unless --force is given")
-      ->required();
+  add_output_options(cmd, args->output);
   auto* duration = cmd->add_option("--duration", args->duration_s,
                                    "simulated time [s] (default: the scenario's duration)");
   duration->check(CLI::PositiveNumber);
-  auto* steps =
-      cmd->add_option("--steps", args->steps, "number of time steps (default: duration / dt)");
-  steps->check(CLI::PositiveNumber);
+  auto* steps = add_steps_option(cmd, args->steps, "number of time steps (default: duration / dt)");
   duration->excludes(steps);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
-  cmd->add_flag("--force,-f", args->force,
-                "replace the content of an existing non-empty --out directory (only after the "
-                "run succeeded)");
   cmd->add_flag("--no-plot", args->no_plot, "do not draw plot.png (no gnuplot needed)");
   cmd->add_option("--backend", args->backend,
                   "model that computes the run: ref (double reference, default), bittrue "
                   "(fixed-point HLS-style model), rtl (Verilator core in process) or remote:PATH "
                   "(cosim-server on a Unix socket); bittrue, rtl and remote give identical numbers")
       ->capture_default_str();
-  cmd->add_option("--lanes", args->lanes, "TEM/MPM lanes of an in-process rtl/bittrue core")
-      ->check(CLI::Range(1, 2))
-      ->capture_default_str();
+  add_lanes_option(cmd, args->lanes, "an in-process rtl or bittrue core");
   cmd->callback([args]() { run_simulate(*args); });
 }
 

@@ -12,7 +12,11 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "hls/fixed_format.hpp"
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
+#include "host/output/json_text.hpp"
+#include "host/output/staged_directory.hpp"
 #include "host/synth/delay_model.hpp"
 #include "host/synth/performance_model.hpp"
 #include "host/synth/yosys_runner.hpp"
@@ -39,17 +43,24 @@ constexpr double kTargetPeakFraction = 0.5;
 // The reference model is timed for at least this long per scenario, so the figure is
 // not dominated by timer resolution or a cold cache.
 constexpr double kReferenceTimingSeconds = 1.0;
-// rtl/rheo_core.sv accepts Lanes 1..4 (hls::kMaxLanes).
-constexpr int kMaxCoreLanes = 4;
+// rtl/rheo_core.sv accepts Lanes 1..4; the lane counts every backend runs are
+// hls::kLaneCounts (the fit below tries those).
 // The core is synthesised at block5 capacity (128 particles, 2,048 edge slots): every
 // memory has at most two registered ports, so Yosys maps them to RAMB16 / LUT RAM and the
 // run takes minutes (one lane: 3-7 min here). Larger capacities come from the analytic
 // block RAM model (estimate_core_ramb16).
 const std::vector<std::string> kCoreCapacityParams = {"MaxParticles=128", "MaxEdges=2048"};
 
+// The model size each figure of the 2003 paper was measured on (seed 000, Table 2): its PC
+// ran the 5x5x5 model, its FPGA the 15x15x16 model. A time is set beside a paper figure only
+// for the same size.
+constexpr const char* kPaperPcModel = "block5";
+constexpr const char* kPaperFpgaModel = "block15";
+
 struct Options {
-  int lanes = 2;
-  std::string out;
+  int lanes = hls::kDefaultLanes;
+  OutputOptions output;
+  bool quiet = false;
   std::vector<std::string> designs{"tem", "mpm", "core"};
   std::string core_top = "rheo_core";
   synth::Capacity core_capacity{128, 2048};
@@ -149,10 +160,18 @@ void write_ucf(const fs::path& file, double period_ns) {
 }
 
 void run(const Options& opt) {
-  if (opt.lanes < 1) throw Error("synth: --lanes must be >= 1, got " + std::to_string(opt.lanes));
-  const fs::path out = opt.out;
-  fs::create_directories(out);
+  output::StagedDirectory staged(opt.output.out, opt.output.force);
+  const fs::path out = staged.path();
   const synth::YosysSetup setup = synth::default_setup();
+  // Figures that cannot be computed from the designs run: said in synth.json and on screen.
+  json warnings = json::array();
+  auto warn = [&warnings](const std::string& text) {
+    warnings.push_back(text);
+    std::cout << "synth: warning: " << text << "\n";
+  };
+  Progress progress("designs synthesised", static_cast<long long>(opt.designs.size()),
+                    progress_enabled(opt.quiet));
+  int designs_done = 0;
 
   std::map<std::string, synth::SynthResult> results;
   json designs = json::object();
@@ -201,7 +220,9 @@ void run(const Options& opt) {
       std::cout << " FAILED\n" << e.what() << "\n";
       designs[label] = {{"top", spec.top}, {"status", "failed"}, {"error", e.what()}};
     }
+    progress.update(++designs_done);
   }
+  progress.finish();
   if (results.empty()) throw Error("synth: no design synthesised; see the messages above");
 
   // Lanes that fit and the clock. Per lane: TEM + MPM (synthesised alone) or, when the
@@ -213,6 +234,17 @@ void run(const Options& opt) {
   double clock_mhz = 1e9;
   for (const auto& [label, r] : results) clock_mhz = std::min(clock_mhz, r.timing.fmax_mhz);
   const bool have_lane = results.count("tem") && results.count("mpm");
+  if (!have_lane) {
+    warn(
+        "lanes that fit an XC2V6000 need both tem and mpm synthesised; not computed, the "
+        "performance figures use the requested --lanes " +
+        std::to_string(opt.lanes));
+  }
+  if (!results.count("core")) {
+    warn(
+        "the core was not synthesised: the clock estimate covers only the designs run and "
+        "misses the core's own paths");
+  }
   Resources lane;
   if (have_lane) lane = sum(results.at("tem").resources, results.at("mpm").resources);
   fit["per_lane_tem_plus_mpm"] = resources_json(lane);
@@ -237,8 +269,10 @@ void run(const Options& opt) {
   const Model block15_model = block15.build_model();
   const synth::ProblemSize block15_size = synth::problem_size("block15", block15_model);
   int lanes_fit = 0;
+  int last_fitting_count = 0;  // lanes_fit only grows through consecutive fitting counts
   json per_lanes = json::array();
-  for (int l = 1; have_lane && l <= kMaxCoreLanes; ++l) {
+  for (int l : hls::kLaneCounts) {
+    if (!have_lane) break;
     synth::Capacity cap{block15_size.particles,
                         static_cast<int>(synth::edge_rows(block15_size, l) * l)};
     Resources total;
@@ -258,11 +292,13 @@ void run(const Options& opt) {
          {"percent",
           {{"slices", u.slices_pct}, {"mult18x18", u.mult18_pct}, {"ramb16", u.ramb16_pct}}},
          {"fits", fits}});
-    if (fits && l == lanes_fit + 1) lanes_fit = l;
+    if (fits && lanes_fit == last_fitting_count) lanes_fit = l;
+    last_fitting_count = l;
   }
   fit["candidates"] = per_lanes;
-  fit["max_lanes_xc2v6000"] = lanes_fit;
-  fit["core_max_lanes_parameter"] = kMaxCoreLanes;
+  fit["max_lanes_xc2v6000"] = have_lane ? json(lanes_fit) : json(nullptr);
+  fit["lane_counts_offered"] =
+      std::vector<int>(std::begin(hls::kLaneCounts), std::end(hls::kLaneCounts));
   fit["method"] =
       "L x per-lane resources (per_lane_basis) against 33,792 slices and 144 MULT18X18; "
       "RAMB16 is checked per scenario in performance.scenarios (analytic memory model, "
@@ -275,7 +311,7 @@ void run(const Options& opt) {
 
   // Performance model.
   synth::CycleModel cycle_model;
-  const int lanes_used = std::max(1, lanes_fit);
+  const int lanes_used = have_lane ? std::max(1, lanes_fit) : opt.lanes;
   const int mults_per_edge = results.count("tem") ? results.at("tem").resources.mult18 : 0;
   json perf = json::object();
   perf["clock_mhz_estimate"] = clock_mhz;
@@ -295,7 +331,15 @@ void run(const Options& opt) {
           ? (synth::Device{}.mult18 / static_cast<double>(mults_per_edge)) * clock_mhz * 1e6
           : 0.0;
   perf["multipliers_per_edge"] = mults_per_edge;
-  perf["peak_edge_updates_per_s"] = peak_edges_per_s;
+  perf["peak_edge_updates_per_s"] = peak_edges_per_s > 0 ? json(peak_edges_per_s) : json(nullptr);
+  if (peak_edges_per_s <= 0) {
+    warn(
+        "the multiplier-bound peak needs the tem synthesised (multipliers per edge); "
+        "fractions of the peak are not computed");
+  }
+  perf["paper_comparison_rule"] =
+      "a time is compared with a 2003 figure only for the model size that figure was measured "
+      "on: block5 (5x5x5) with the paper's PC, block15 (15x15x16) with the paper's FPGA";
   json rows = json::array();
   for (const std::string name : {"block5", "block15"}) {
     const Scenario scenario = load_scenario(name);
@@ -307,25 +351,30 @@ void run(const Options& opt) {
         {size.particles, static_cast<int>(sched_rows * lanes_used)}, lanes_used);
     const double step_us = cycles / clock_mhz;
     const double edge_rate = size.edges / (step_us * 1e-6);
-    json row = {
-        {"scenario", name},
-        {"particles", size.particles},
-        {"edges", size.edges},
-        {"edge_rows", sched_rows},
-        {"edge_bubbles", sched_rows * lanes_used - size.edges},
-        {"ramb16_estimate", ramb16},
-        {"state_fits_on_chip", ramb16 <= synth::Device{}.ramb16},
-        {"cycles_per_step", cycles},
-        {"estimated_us_per_step", step_us},
-        {"edge_updates_per_s", edge_rate},
-        {"fraction_of_multiplier_peak", peak_edges_per_s > 0 ? edge_rate / peak_edges_per_s : 0.0},
-        {"speedup_vs_paper_fpga", kPaperFpgaStepMs * 1e3 / step_us},
-        {"speedup_vs_paper_pc", kPaperPcStepMs * 1e3 / step_us}};
+    json row = {{"scenario", name},
+                {"particles", size.particles},
+                {"edges", size.edges},
+                {"edge_rows", sched_rows},
+                {"edge_bubbles", sched_rows * lanes_used - size.edges},
+                {"ramb16_estimate", ramb16},
+                {"state_fits_on_chip", ramb16 <= synth::Device{}.ramb16},
+                {"cycles_per_step", cycles},
+                {"estimated_us_per_step", step_us},
+                {"edge_updates_per_s", edge_rate},
+                {"fraction_of_multiplier_peak",
+                 peak_edges_per_s > 0 ? json(edge_rate / peak_edges_per_s) : json(nullptr)}};
+    if (name == std::string(kPaperFpgaModel)) {
+      row["speedup_vs_paper_fpga"] = kPaperFpgaStepMs * 1e3 / step_us;
+    }
+    if (name == std::string(kPaperPcModel)) {
+      row["speedup_vs_paper_pc"] = kPaperPcStepMs * 1e3 / step_us;
+    }
     const double target_us = name == std::string("block5") ? kTargetBlock5Us : kTargetBlock15Us;
     row["target_us"] = target_us;
     row["target_met"] = step_us <= target_us;
-    row["peak_target_met"] =
-        peak_edges_per_s > 0 && edge_rate >= kTargetPeakFraction * peak_edges_per_s;
+    row["peak_target_met"] = peak_edges_per_s > 0
+                                 ? json(edge_rate >= kTargetPeakFraction * peak_edges_per_s)
+                                 : json(nullptr);
     if (opt.time_reference) {
       const double ref = reference_seconds_per_step(scenario);
       row["reference_model_cpu_us_per_step_this_machine"] = ref * 1e6;
@@ -333,7 +382,16 @@ void run(const Options& opt) {
     }
     std::cout << "perf: " << name << " E=" << size.edges << " N=" << size.particles
               << " L=" << lanes_used << " cycles=" << cycles << " -> " << std::setprecision(2)
-              << step_us << " us/step (target " << target_us << " us)\n";
+              << step_us << " us/step (target " << target_us << " us)";
+    if (row.contains("speedup_vs_paper_fpga")) {
+      std::cout << "; the paper's FPGA on the same model: " << kPaperFpgaStepMs * 1e3 << " us ("
+                << row["speedup_vs_paper_fpga"].get<double>() << "x)";
+    }
+    if (row.contains("speedup_vs_paper_pc")) {
+      std::cout << "; the paper's PC on the same model: " << kPaperPcStepMs * 1e3 << " us ("
+                << row["speedup_vs_paper_pc"].get<double>() << "x)";
+    }
+    std::cout << "\n";
     rows.push_back(row);
   }
   perf["scenarios"] = rows;
@@ -384,11 +442,14 @@ void run(const Options& opt) {
                   {{"figures", delays},
                    {"constraints_file", "rheo_core.ucf"},
                    {"clock_period_ns", period_ns}}},
-                 {"performance", perf}};
+                 {"performance", perf},
+                 {"warnings", warnings}};
   std::ofstream json_out(out / "synth.json");
-  json_out << report.dump(2) << "\n";
-  if (!json_out) throw Error((out / "synth.json").string() + ": write failed");
-  std::cout << "synth: wrote " << (out / "synth.json").string() << "\n";
+  json_out << output::json_text(report) << "\n";
+  if (!json_out.flush()) throw Error((out / "synth.json").string() + ": write failed");
+  json_out.close();
+  staged.commit();
+  std::cout << "synth: wrote " << (fs::path(staged.target()) / "synth.json").string() << "\n";
 }
 
 }  // namespace
@@ -400,8 +461,9 @@ void register_synth(CLI::App& app) {
       "Synthesise the TEM, the MPM and the core for Virtex-II (Yosys synth_xilinx -family "
       "xc2v): resources, estimated clock, lanes that fit an XC2V6000, time per step; writes "
       "DIR/synth.json, EDIF netlists and a UCF clock constraint.");
-  cmd->add_option("--lanes", opt->lanes, "TEM/MPM lanes of the core")->capture_default_str();
-  cmd->add_option("--out", opt->out, "output directory")->required();
+  add_lanes_option(cmd, opt->lanes, "the synthesised core");
+  add_output_options(cmd, opt->output);
+  cmd->add_flag("--quiet,-q", opt->quiet, "no progress display on stderr");
   cmd->add_option("--designs", opt->designs,
                   "subset of tem, tem_arm (TEM with the Maxwell arm), mpm, core")
       ->delimiter(',')

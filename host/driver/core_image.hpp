@@ -1,5 +1,5 @@
 // Conversion of a rheo::Model (SI units) into the core's fixed-point image: unit choice,
-// host-side constant folding (design.md §4), coefficient encoding with range checks, the
+// host-side constant folding (docs/hardware.md), coefficient encoding with range checks, the
 // edge schedule for a lane count, and the conversions of plate heights, forces and state
 // words back and forth. Throws rheo::Error naming the particle/edge/material and the
 // limit when a value does not fit.

@@ -1,12 +1,16 @@
 #include "host/driver/cosim.hpp"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <sstream>
 
+#include "hls/fixed_format.hpp"
 #include "host/driver/bittrue_transport.hpp"
 #include "host/driver/core_image.hpp"
 #include "host/driver/device.hpp"
+#include "host/driver/fst_signals.hpp"
 #include "host/driver/verilator_transport.hpp"
 #include "sim/error.hpp"
 #include "sim/simulator.hpp"
@@ -81,7 +85,8 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   long step = 0;
   while (step < opt.steps) {
     const long batch = std::min<long>(opt.compare_every, opt.steps - step);
-    rtl_raw->set_tracing(opt.trace_steps == 0 || step < opt.trace_steps);
+    const bool traced = !opt.trace_fst.empty() && (opt.trace_steps == 0 || step < opt.trace_steps);
+    rtl_raw->set_tracing(traced);
     std::vector<std::int32_t> plate_words(batch);
     std::vector<double> plate_z(batch);
     for (long b = 0; b < batch; ++b) {
@@ -90,7 +95,9 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
       plate_words[b] = static_cast<std::int32_t>(to_x_word(plate_z[b], image, "plate height"));
     }
     const std::vector<std::int32_t> f_bt = bittrue.run(plate_words);
+    const std::uint64_t batch_start = rtl_raw->trace_time();
     const std::vector<std::int32_t> f_rtl = rtl.run(plate_words);
+    if (traced) res.traced.push_back({step + 1, batch, batch_start, rtl_raw->trace_time()});
     for (long b = 0; b < batch; ++b) {
       if (f_rtl[b] != f_bt[b]) {
         ++res.mismatches;
@@ -155,6 +162,33 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   res.sim_cycles_per_s =
       rtl_raw->wall_seconds() > 0 ? double(rtl_raw->cycles()) / rtl_raw->wall_seconds() : 0.0;
   return res;
+}
+
+std::string write_trace_gtkw(const CosimResult& r, const CosimOptions& opt,
+                             const std::string& filter_command, const std::string& final_fst) {
+  namespace fs = std::filesystem;
+  if (opt.trace_fst.empty()) throw Error("gtkw: the run wrote no waveform");
+  if (r.traced.empty()) throw Error("gtkw: no step of the run is in " + opt.trace_fst);
+  const FstContents fst = read_fst_signals(opt.trace_fst);
+  if (r.traced.front().start_time < fst.start_time || r.traced.front().end_time > fst.end_time)
+    throw Error("gtkw: step " + std::to_string(r.traced.front().first_step) +
+                " lies outside the times of " + opt.trace_fst);
+  GtkwOptions g;
+  g.lanes = r.lanes;
+  g.maxwell_arm = opt.maxwell_arm;
+  // The RTL implements the hardware format (rtl/rheo_consts_pkg.sv is generated from it).
+  g.format = FormatDesc::of<hls::HardwareFormat>();
+  g.units = Units{r.length_unit_m, r.force_unit_N, r.dt_s};
+  g.filter_command = filter_command;
+  g.steps = r.traced;
+  g.dump_file = fs::absolute(final_fst.empty() ? opt.trace_fst : final_fst).string();
+  const std::string text = make_gtkw(fst.signals, g);
+  const std::string path = fs::path(opt.trace_fst).replace_extension(".gtkw").string();
+  std::ofstream out(path);
+  out << text;
+  out.close();
+  if (!out) throw Error("cannot write " + path);
+  return path;
 }
 
 }  // namespace rheo::driver

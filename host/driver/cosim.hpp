@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "host/driver/gtkw.hpp"
 #include "sim/scenario.hpp"
 
 namespace rheo::driver {
@@ -52,8 +53,21 @@ struct CosimResult {
   double length_unit_m = 0.0, force_unit_N = 0.0, dt_s = 0.0;
   std::vector<std::string> dropped_features;
   std::vector<double> force_fixed_N, force_ref_N;  // per step
+  // With a waveform: the FST times of each traced batch of steps (compare_every steps),
+  // from its RUN command to its last force word.
+  std::vector<TracedSteps> traced;
 };
 
 CosimResult run_cosim(const Scenario& scenario, const CosimOptions& options);
+
+// After a traced run: reads the FST's signals and writes the GTKWave save file beside it
+// (FILE.fst -> FILE.gtkw), opening on the first step after the load, fixed-point words
+// through `filter_command` (rheo-gtkw-filter) in mm, m/s and N. Returns its path. Throws
+// rheo::Error when a signal the save file shows is not in the FST. `final_fst` is where the
+// FST will be when the user opens it (a staged output is moved after the run); empty: where
+// it is now.
+std::string write_trace_gtkw(const CosimResult& result, const CosimOptions& options,
+                             const std::string& filter_command,
+                             const std::string& final_fst = "");
 
 }  // namespace rheo::driver

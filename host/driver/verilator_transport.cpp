@@ -25,6 +25,7 @@ class VerilatorTransport::Impl {
   virtual ~Impl() = default;
   virtual void send(const std::vector<std::uint32_t>& words) = 0;
   virtual std::vector<std::uint32_t> receive(std::size_t n) = 0;
+  virtual std::uint64_t time() const = 0;
   bool tracing = true;
   std::vector<std::size_t> frame_lengths;  // completed response frames (tlast seen)
   std::size_t open_frame = 0;              // words of the frame in progress
@@ -89,6 +90,8 @@ class Harness : public VerilatorTransport::Impl {
     out_.erase(out_.begin(), out_.begin() + n);
     return got;
   }
+
+  std::uint64_t time() const override { return ctx_->time(); }
 
  private:
   // One clock: drive inputs for this cycle, sample handshakes at the rising edge.
@@ -155,6 +158,7 @@ void VerilatorTransport::send(const std::vector<std::uint32_t>& w) { impl_->send
 std::vector<std::uint32_t> VerilatorTransport::receive(std::size_t n) { return impl_->receive(n); }
 std::string VerilatorTransport::name() const { return "RTL core (Verilator)"; }
 std::uint64_t VerilatorTransport::cycles() const { return impl_->cycles; }
+std::uint64_t VerilatorTransport::trace_time() const { return impl_->time(); }
 double VerilatorTransport::wall_seconds() const { return impl_->wall; }
 void VerilatorTransport::set_tracing(bool on) { impl_->tracing = on; }
 const std::vector<std::size_t>& VerilatorTransport::output_frame_lengths() const {

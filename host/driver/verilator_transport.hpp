@@ -36,6 +36,9 @@ class VerilatorTransport : public Transport {
   void set_tracing(bool on);
   std::uint64_t cycles() const;  // clocks simulated so far
   double wall_seconds() const;   // wall time spent clocking the model
+  // Simulation time of the next clock in the FST's time units (two per clock: the clock's
+  // low half, then its rising edge).
+  std::uint64_t trace_time() const;
 
   class Impl;
 

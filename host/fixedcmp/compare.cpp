@@ -215,7 +215,7 @@ json compare(const Scenario& scenario, const std::vector<BackendSpec>& specs,
   const auto start = std::chrono::steady_clock::now();
   for (long long s = 1; s <= options.steps; ++s) {
     const double t = s * dt;
-    const double plate_z = model.height - scenario.protocol.displacement_mm(t) * 1e-3;
+    const double plate_z = scenario.plate_z(model, s);
     const double f_ref = reference.step(plate_z).plate_force_N;
     peak_ref_force = std::max(peak_ref_force, std::abs(f_ref));
     const bool is_checkpoint = std::find(options.checkpoints.begin(), options.checkpoints.end(),
@@ -273,6 +273,7 @@ json compare(const Scenario& scenario, const std::vector<BackendSpec>& specs,
       if (is_sample) tr.samples.push_back({s, max_rel, rms_rel, mean_dz_rel});
       if (is_force_sample) tr.force_curve.push_back({s, t, f});
     }
+    if (options.progress) options.progress(s);
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -5,6 +5,7 @@
 // (max over particles and RMS over particles) and plate-force error.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -43,8 +44,9 @@ struct CompareOptions {
   long long steps = 100000;
   std::vector<long long> checkpoints{1000, 10000, 100000};
   int lanes = 1;
-  int plot_points_per_decade = 20;  // error-vs-step samples on the log axis
-  int force_curve_points = 2000;    // samples of the force curves
+  int plot_points_per_decade = 20;               // error-vs-step samples on the log axis
+  int force_curve_points = 2000;                 // samples of the force curves
+  std::function<void(long long step)> progress;  // called after every step when set
 };
 
 struct BackendSpec {

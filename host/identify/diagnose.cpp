@@ -10,6 +10,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "host/output/json_text.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::identify {
@@ -321,13 +322,25 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
                    const std::vector<Measurement>& holdout, const DiagnoseOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   if (fit_data.empty()) throw Error("diagnose: no fit file given");
+  // Telling causes apart needs each protocol phase resolved by many samples, not merely more
+  // samples than parameters: a handful of rows gets no diagnosis rather than a confident one.
+  std::size_t samples = 0;
+  for (const Measurement& m : fit_data) samples += m.size();
+  if (samples < kMinDiagnoseSamples) {
+    throw Error("diagnose: " + std::to_string(samples) + " samples in the fit file(s); at least " +
+                std::to_string(kMinDiagnoseSamples) +
+                " are needed to tell the causes apart (each shows over whole protocol phases)");
+  }
   Diagnosis d;
   const SimulationOptions& sim = options.fit.simulation;
   const DataScales scales = data_scales(fit_data);
   d.mesh = coarse_mesh_description(fit_data.front().geometry);
+  d.inputs = inputs_of(fit_data, holdout);
   d.noise_sigma_N = noise_from_second_differences(fit_data.front());
   d.baseline = fit_model(fit_data, model_spec(Extension::kNone, scales), {}, options.fit);
   d.baseline_rmse_holdout_N = holdout_rmse(holdout, d.baseline, sim);
+  const int fits = 1 + static_cast<int>(all_extensions().size());
+  if (options.on_model_fitted) options.on_model_fitted(1, fits);
   for (Extension e : all_extensions()) {
     const ModelSpec spec = model_spec(e, scales);
     CandidateFit c;
@@ -336,6 +349,9 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
     // A candidate contains the baseline: never report it worse than the baseline's optimum.
     c.rmse_holdout_N = holdout_rmse(holdout, c.fit, sim);
     d.candidates.push_back(c);
+    if (options.on_model_fitted) {
+      options.on_model_fitted(1 + static_cast<int>(d.candidates.size()), fits);
+    }
   }
   // Pick: candidates in AIC order; the first that earns its parameters and, when held-out
   // data exist, also predicts them better.
@@ -389,6 +405,53 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
   return d;
 }
 
+std::vector<InputFile> inputs_of(const std::vector<Measurement>& fit_data,
+                                 const std::vector<Measurement>& holdout) {
+  std::vector<InputFile> out;
+  for (const auto& m : fit_data) out.push_back({"fit", m.source, m.geometry, m.import});
+  for (const auto& m : holdout) out.push_back({"holdout", m.source, m.geometry, m.import});
+  return out;
+}
+
+nlohmann::json assumptions_json(const std::vector<InputFile>& inputs) {
+  using nlohmann::json;
+  json a = json::array();
+  for (const auto& f : inputs) {
+    const ImportInfo& i = f.import;
+    a.push_back({{"file", f.source},
+                 {"role", f.role},
+                 {"test_type", i.test_type},
+                 {"recognised", i.recognised},
+                 {"geometry_mm",
+                  {{"height", f.geometry.height_mm},
+                   {"width", f.geometry.width_mm},
+                   {"depth", f.geometry.depth_mm}}},
+                 {"geometry_source", i.geometry_source},
+                 {"strain", i.strain ? json(*i.strain) : json(nullptr)},
+                 {"strain_source", i.strain_source},
+                 {"modulus_conversion", i.modulus_conversion},
+                 {"units", i.units}});
+  }
+  return a;
+}
+
+std::string unidentifiable_warnings(const FitResult& f) {
+  std::ostringstream s;
+  for (const ParamEstimate* e : f.unidentifiable()) {
+    s << "warning: " << f.spec.name() << ": " << e->name << " = " << fmt(e->value, 4)
+      << " is not identifiable: " << e->unidentifiable << "\n";
+  }
+  return s.str();
+}
+
+nlohmann::json unidentifiable_json(const FitResult& f) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const ParamEstimate* e : f.unidentifiable()) {
+    a.push_back({{"param", e->name}, {"reason", e->unidentifiable}});
+  }
+  return a;
+}
+
 nlohmann::json diagnosis_json(const Diagnosis& d) {
   using nlohmann::json;
   auto params = [](const FitResult& f) {
@@ -403,13 +466,15 @@ nlohmann::json diagnosis_json(const Diagnosis& d) {
                    {"params", params(d.baseline)},
                    {"rmse_fit_N", d.baseline.rmse_force_N},
                    {"rmse_holdout_N", opt(d.baseline_rmse_holdout_N)},
-                   {"aic", d.baseline.aic}};
+                   {"aic", d.baseline.aic},
+                   {"unidentifiable", unidentifiable_json(d.baseline)}};
   j["finding"] = {{"cause", cause_name(d.cause)}, {"evidence", d.evidence}};
   j["extended"] = {{"model", ext.spec.name()},
                    {"params", params(ext)},
                    {"rmse_fit_N", ext.rmse_force_N},
                    {"rmse_holdout_N", opt(d.extended_holdout())},
-                   {"aic", ext.aic}};
+                   {"aic", ext.aic},
+                   {"unidentifiable", unidentifiable_json(ext)}};
   json ratio = nullptr;
   if (d.chosen < 0) {
     ratio = 1.0;
@@ -423,6 +488,7 @@ nlohmann::json diagnosis_json(const Diagnosis& d) {
                                {"aic", c.fit.aic},
                                {"rmse_holdout_N", opt(c.rmse_holdout_N)}});
   }
+  j["assumptions"] = assumptions_json(d.inputs);
   return j;
 }
 
@@ -431,19 +497,14 @@ nlohmann::json fit_json(const FitResult& f) {
   json p = json::array();
   for (const auto& e : f.estimates) {
     json q = {{"name", e.name}, {"value", e.value}};
-    if (!e.at_bound.empty()) {
-      q["at_bound"] = e.at_bound;
-      q["ci95"] = nullptr;
-    } else if (e.ci_low && e.ci_high) {
-      q["ci95"] = {*e.ci_low, *e.ci_high};
-    } else {
-      q["ci95"] = nullptr;
-      q["note"] = "not identifiable (singular information matrix)";
-    }
+    if (!e.at_bound.empty()) q["at_bound"] = e.at_bound;
+    q["ci95"] = e.ci_low && e.ci_high ? json{*e.ci_low, *e.ci_high} : json(nullptr);
+    if (!e.unidentifiable.empty()) q["unidentifiable"] = e.unidentifiable;
     p.push_back(q);
   }
   return {{"model", f.spec.name()},
           {"params", p},
+          {"unidentifiable", unidentifiable_json(f)},
           {"rmse_fit_N", f.rmse_force_N},
           {"rmse_per_file_N", f.rmse_per_file_N},
           {"aic", f.aic},
@@ -495,7 +556,7 @@ void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
                                  {"rms_extended_N", p.rms_extended},
                                  {"mean_extended_N", p.mean_extended}});
   }
-  write_text(dir / "details.json", details.dump(2) + "\n");
+  write_text(dir / "details.json", output::json_text(details) + "\n");
 
   const nlohmann::json j = diagnosis_json(d);
   std::ostringstream r;
@@ -507,6 +568,30 @@ void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
   if (holdout.empty()) r << "none";
   for (const auto& m : holdout) r << "`" << m.source << "` ";
   r << "\n\nSpecimen model: " << d.mesh << ".\n\n";
+  r << "## Inputs and assumptions\n\n";
+  for (const auto& f : d.inputs) {
+    r << "- " << f.role << " `" << f.source << "`: " << f.import.recognised << "; geometry "
+      << f.geometry.height_mm << " x " << f.geometry.width_mm << " x " << f.geometry.depth_mm
+      << " mm (" << f.import.geometry_source << ")";
+    if (f.import.test_type != "rheo_measurement") {
+      r << "; strain: ";
+      if (f.import.strain) r << *f.import.strain * 100.0 << " % (";
+      r << f.import.strain_source << (f.import.strain ? ")" : "")
+        << "; modulus conversion: " << f.import.modulus_conversion << "; units: " << f.import.units;
+    }
+    r << "\n";
+  }
+  r << "\n";
+  const std::string warnings = unidentifiable_warnings(d.baseline) +
+                               (d.chosen < 0 ? std::string() : unidentifiable_warnings(ext));
+  if (!warnings.empty()) {
+    r << "## Warning: parameters the data do not determine\n\n"
+         "Their values (and, for the extended model, the finding that rests on them) should "
+         "not be read as material properties:\n\n";
+    std::istringstream lines(warnings);
+    for (std::string l; std::getline(lines, l);) r << "- " << l.substr(l.find(' ') + 1) << "\n";
+    r << "\n";
+  }
   r << "## Finding: `" << cause_name(d.cause) << "`\n\n" << d.evidence << "\n\n";
   r << "| | model | fit RMSE [N] | held-out RMSE [N] | AIC |\n|---|---|---|---|---|\n";
   auto row = [&](const char* label, const nlohmann::json& m) {
@@ -531,17 +616,16 @@ void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
       << param_list(c.fit, 3) << " |\n";
   }
   r << "\n## Residuals by phase (first fit file, measured - model)\n\n" << phase_table(d);
-  r << "\n## Parameters\n\n| model | parameter | value | 95 % interval |\n|---|---|---|---|\n";
+  r << "\n## Parameters\n\n| model | parameter | value | 95 % interval | identifiable |\n"
+       "|---|---|---|---|---|\n";
   for (const FitResult* f : {&d.baseline, &ext}) {
     for (const auto& e : f->estimates) {
       r << "| " << f->spec.name() << " | " << e.name << " | " << e.value << " | ";
-      if (!e.at_bound.empty())
-        r << "at " << e.at_bound << " bound (no interval)";
-      else if (e.ci_low)
+      if (e.ci_low)
         r << "[" << *e.ci_low << ", " << *e.ci_high << "]";
       else
-        r << "not identifiable";
-      r << " |\n";
+        r << "none";
+      r << " | " << (e.unidentifiable.empty() ? "yes" : "**no**: " + e.unidentifiable) << " |\n";
     }
     if (f == &ext && d.chosen < 0) break;
   }
@@ -550,7 +634,7 @@ void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
   for (const auto& [png, title] : plots) r << "![" << title << "](" << png << ")\n\n";
   write_text(dir / "report.md", r.str());
   // Last: the contract file, so its presence means the whole output is there.
-  write_text(dir / "diagnosis.json", j.dump(2) + "\n");
+  write_text(dir / "diagnosis.json", output::json_text(j) + "\n");
 }
 
 void write_fit(const std::string& dir_name, const FitResult& f,
@@ -570,10 +654,11 @@ void write_fit(const std::string& dir_name, const FitResult& f,
   const bool plotted = run_gnuplot(dir, "plots.gp");
   nlohmann::json j = fit_json(f);
   j["mesh"] = coarse_mesh_description(data.front().geometry);
+  j["assumptions"] = assumptions_json(inputs_of(data, {}));
   j["files"] = nlohmann::json::array();
   for (const auto& m : data) j["files"].push_back(m.source);
   j["plots"] = plotted;
-  write_text(dir / "fit.json", j.dump(2) + "\n");
+  write_text(dir / "fit.json", output::json_text(j) + "\n");
 }
 
 }  // namespace rheo::identify

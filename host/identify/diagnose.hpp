@@ -1,9 +1,11 @@
-// Diagnosis of a fitted model (design.md §7): fit the baseline three-element column,
-// analyse its residuals by phase, fit every candidate extension, pick by AIC (one Gaussian
-// likelihood for all models with the noise level estimated) confirmed on held-out data,
-// and write diagnosis.json exactly as the contract says plus a report with plots.
+// Diagnosis of a fitted model (diagnosis.json in docs/data-format.md): fit the baseline
+// three-element column, analyse its residuals by phase, fit every candidate extension,
+// pick by AIC (one Gaussian likelihood for all models with the noise level estimated)
+// confirmed on held-out data, and write diagnosis.json as the contract says (plus the
+// documented extra keys) and a report with plots.
 #pragma once
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -24,8 +26,14 @@ std::vector<Phase> phases_of(const Measurement& m);
 // sigma = rms(f[i+1] - 2 f[i] + f[i-1]) / sqrt(6), exact for white noise on a smooth curve.
 double noise_from_second_differences(const Measurement& m);
 
+// Fewest samples (rows of the fit files together) a diagnosis accepts.
+inline constexpr std::size_t kMinDiagnoseSamples = 100;
+
 struct DiagnoseOptions {
   FitOptions fit;
+  // Called after each model fit (the baseline, then every candidate) when set: fits done
+  // so far, fits in all.
+  std::function<void(int done, int total)> on_model_fitted;
   // Smallest AIC drop that counts as an extension earning its parameters (Burnham and
   // Anderson: a difference above 10 means essentially no support for the worse model).
   double min_delta_aic = 10.0;
@@ -45,6 +53,23 @@ struct CandidateFit {
   std::optional<double> rmse_holdout_N;
 };
 
+// What one input file was read as and assumed (fit.json and diagnosis.json
+// "assumptions", the report, the screen).
+struct InputFile {
+  std::string role;  // "fit" or "holdout"
+  std::string source;
+  Geometry geometry;
+  ImportInfo import;
+};
+std::vector<InputFile> inputs_of(const std::vector<Measurement>& fit_data,
+                                 const std::vector<Measurement>& holdout);
+nlohmann::json assumptions_json(const std::vector<InputFile>& inputs);
+
+// "warning: ..." lines, one per parameter of `f` the data do not determine ("" if none).
+std::string unidentifiable_warnings(const FitResult& f);
+// [{"param": ..., "reason": ...}, ...] for the parameters the data do not determine.
+nlohmann::json unidentifiable_json(const FitResult& f);
+
 struct Diagnosis {
   FitResult baseline;
   std::optional<double> baseline_rmse_holdout_N;
@@ -55,7 +80,8 @@ struct Diagnosis {
   std::vector<PhaseResiduals> phases;  // on the (first) fit file
   double noise_sigma_N = 0.0;          // from second differences of the fit data
   std::string mesh;
-  double seconds = 0.0;  // wall time of the diagnosis
+  std::vector<InputFile> inputs;  // fit files, then held-out files
+  double seconds = 0.0;           // wall time of the diagnosis
   const FitResult& extended() const { return chosen < 0 ? baseline : candidates[chosen].fit; }
   std::optional<double> extended_holdout() const {
     return chosen < 0 ? baseline_rmse_holdout_N : candidates[chosen].rmse_holdout_N;
@@ -65,9 +91,11 @@ struct Diagnosis {
 Diagnosis diagnose(const std::vector<Measurement>& fit_data,
                    const std::vector<Measurement>& holdout, const DiagnoseOptions& options = {});
 
-// diagnosis.json exactly as design.md §7.
+// diagnosis.json as docs/data-format.md describes it: the contract keys plus
+// "assumptions" and, in "baseline" and "extended", "unidentifiable".
 nlohmann::json diagnosis_json(const Diagnosis& d);
-// Parameter estimates with intervals and bound flags (fit.json and details.json).
+// Parameter estimates with intervals, bound and identifiability flags (fit.json and
+// details.json).
 nlohmann::json fit_json(const FitResult& f);
 
 // Writes DIR/diagnosis.json, DIR/details.json, DIR/report.md and the PNG plots (gnuplot).

@@ -5,7 +5,9 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 
 #include "sim/error.hpp"
 
@@ -17,6 +19,16 @@ namespace {
 constexpr double kStuckFraction = 1e-3;
 // Two-sided 95 % normal quantile for the confidence intervals.
 constexpr double kZ95 = 1.959963984540054;
+// A Jacobian column shorter than this fraction of the longest one means the parameter does
+// not change the residuals (central differences of an unchanged simulation give exactly 0;
+// the margin covers rounding).
+constexpr double kNoEffect = 1e-9;
+// Smallest eigenvalue of the column-normalised information matrix, relative to the
+// largest, below which it counts as singular (double precision: ~1e-16 is noise; 1e-12
+// leaves four digits of margin for the central-difference Jacobian).
+constexpr double kSingular = 1e-12;
+// Share of a null direction above which a parameter is named as part of it.
+constexpr double kNullComponent = 0.1;
 
 double to_internal(const ParamSpec& p, double v) { return p.log_scale ? std::log(v) : v; }
 double to_physical(const ParamSpec& p, double x) { return p.log_scale ? std::exp(x) : x; }
@@ -75,6 +87,103 @@ double clamp_into(const ParamSpec& p, double v) {
   const double lo = to_internal(p, p.lower), hi = to_internal(p, p.upper);
   const double margin = 1e-2 * (hi - lo);
   return std::clamp(to_internal(p, v), lo + margin, hi - margin);
+}
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << std::setprecision(3) << v;
+  return s.str();
+}
+
+// Flags the free parameters the data do not determine and gives the others their 95 %
+// intervals. jac holds the residuals' derivatives with respect to the optimiser's
+// coordinates of the free parameters (columns in free_idx order), rss the residual sum of
+// squares at the optimum.
+void flag_and_interval(const ModelSpec& spec, const std::vector<double>& x,
+                       const Eigen::MatrixXd& jac, const std::vector<int>& free_idx, double rss,
+                       int n_res, std::vector<ParamEstimate>& est) {
+  const double dof =
+      std::max(1.0, static_cast<double>(n_res) - static_cast<double>(spec.params.size()));
+  const double sigma2 = rss / dof;
+  // Columns still in the information matrix (indices into free_idx / jac).
+  std::vector<int> active(free_idx.size());
+  for (std::size_t c = 0; c < active.size(); ++c) active[c] = static_cast<int>(c);
+  auto name_of = [&](int c) { return spec.params[free_idx[c]].name; };
+  // Removes what makes J^T J singular, one null direction at a time: the columns with no
+  // effect at all, then the parameters that carry a direction of the column-normalised
+  // information matrix (a correlation matrix, so its conditioning does not depend on units)
+  // along which the residuals do not change.
+  while (!active.empty()) {
+    std::vector<int> kept;
+    double max_norm = 0.0;
+    for (int c : active) max_norm = std::max(max_norm, jac.col(c).norm());
+    for (int c : active) {
+      if (!(jac.col(c).norm() > kNoEffect * max_norm)) {
+        est[free_idx[c]].unidentifiable = "no effect on the residuals: the data do not excite it";
+      } else {
+        kept.push_back(c);
+      }
+    }
+    active = kept;
+    if (active.empty()) break;
+    Eigen::MatrixXd jn(jac.rows(), active.size());
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      jn.col(a) = jac.col(active[a]) / jac.col(active[a]).norm();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jn.transpose() * jn);
+    const auto& lambda = eig.eigenvalues();  // ascending
+    if (lambda(0) > kSingular * lambda(lambda.size() - 1)) break;
+    const Eigen::VectorXd v = eig.eigenvectors().col(0);
+    std::vector<int> involved;
+    int largest = 0;
+    for (int a = 0; a < v.size(); ++a) {
+      if (std::abs(v(a)) > std::abs(v(largest))) largest = a;
+      if (std::abs(v(a)) > kNullComponent) involved.push_back(a);
+    }
+    if (involved.empty()) involved.push_back(largest);
+    for (int a : involved) {
+      std::string with;
+      for (int b : involved) {
+        if (b != a) with += (with.empty() ? "" : ", ") + name_of(active[b]);
+      }
+      est[free_idx[active[a]]].unidentifiable =
+          with.empty() ? "singular information matrix: the data do not determine it"
+                       : "confounded with " + with +
+                             ": the data fix only a combination (singular information matrix)";
+    }
+    kept.clear();
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      if (std::find(involved.begin(), involved.end(), static_cast<int>(a)) == involved.end()) {
+        kept.push_back(active[a]);
+      }
+    }
+    active = kept;
+  }
+  if (active.empty()) return;
+  Eigen::MatrixXd ja(jac.rows(), active.size());
+  for (std::size_t a = 0; a < active.size(); ++a) ja.col(a) = jac.col(active[a]);
+  const Eigen::MatrixXd cov = sigma2 * (ja.transpose() * ja).inverse();
+  for (std::size_t a = 0; a < active.size(); ++a) {
+    const int i = free_idx[active[a]];
+    const ParamSpec& ps = spec.params[i];
+    ParamEstimate& e = est[i];
+    const double sd = std::sqrt(std::max(0.0, cov(a, a)));
+    const double lo = to_physical(ps, x[i] - kZ95 * sd), hi = to_physical(ps, x[i] + kZ95 * sd);
+    if (!std::isfinite(sd) || !std::isfinite(lo) || !std::isfinite(hi)) {
+      e.unidentifiable = "95 % interval not finite";
+      continue;
+    }
+    e.ci_low = lo;
+    e.ci_high = hi;
+    const std::string interval = "[" + num(lo) + ", " + num(hi) + "]";
+    if (ps.log_scale && sd > kMaxRelativeStandardError) {
+      e.unidentifiable = "relative standard error " + num(100.0 * sd) +
+                         " % (above 100 %), 95 % interval " + interval;
+    } else if (!ps.log_scale && 2.0 * kZ95 * sd > ps.upper - ps.lower) {
+      e.unidentifiable = "95 % interval " + interval + " wider than its whole range [" +
+                         num(ps.lower) + ", " + num(ps.upper) + "]";
+    }
+  }
 }
 
 }  // namespace
@@ -227,6 +336,26 @@ std::vector<std::vector<double>> extension_starts(const ModelSpec& spec,
   return out;
 }
 
+namespace {
+
+// Forwards Ceres' per-iteration callback to FitOptions::progress.
+class ProgressCallback : public ceres::IterationCallback {
+ public:
+  ProgressCallback(const std::function<void(const FitProgress&)>& report, FitProgress where)
+      : report_(report), where_(std::move(where)) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    where_.iteration = s.iteration;
+    if (report_) report_(where_);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(const FitProgress&)>& report_;
+  FitProgress where_;
+};
+
+}  // namespace
+
 FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
                     std::vector<std::vector<double>> starts, const FitOptions& options) {
   const DataScales s = data_scales(data);
@@ -247,6 +376,14 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
     }
   }
   const int n_res = residual_count(data, options);
+  // A least-squares fit needs clearly more samples than parameters for its intervals (and
+  // its AIC) to mean anything; with k samples any k-parameter model fits exactly.
+  if (n_res < static_cast<int>(kMinSamplesPerParameter * k)) {
+    throw Error("fit: " + std::to_string(n_res) + " samples for the " + std::to_string(k) +
+                " parameters of " + spec.name() + "; at least " +
+                std::to_string(kMinSamplesPerParameter * k) +
+                " are needed (a fit with few more samples than parameters fits any data)");
+  }
   FitResult best;
   best.spec = spec;
   double best_cost = std::numeric_limits<double>::infinity();
@@ -276,6 +413,10 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
     so.parameter_tolerance = 1e-9;
     so.logging_type = ceres::SILENT;
     so.minimizer_progress_to_stdout = false;
+    ProgressCallback progress(
+        options.progress,
+        {spec.name(), best.starts + 1, static_cast<int>(starts.size()), 0, options.max_iterations});
+    if (options.progress) so.callbacks.push_back(&progress);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
     ++best.starts;
@@ -306,7 +447,7 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
   best.aic = best.n_force * std::log(best.rss_force / best.n_force) + 2.0 * (k + 1);
 
   // Covariance from the Jacobian at the optimum: cov = s^2 (J^T J)^-1 over the parameters
-  // that are not at a bound; s^2 = RSS / (n - k).
+  // that are not at a bound and that the data determine; s^2 = RSS / (n - k).
   std::vector<int> free_idx;
   best.estimates.resize(k);
   for (std::size_t i = 0; i < k; ++i) {
@@ -322,6 +463,12 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
       e.at_bound = "upper";
     else
       free_idx.push_back(static_cast<int>(i));
+    if (!e.at_bound.empty()) {
+      // A bound is where the search was stopped, not where the data put the optimum.
+      e.unidentifiable = "at its " + e.at_bound + " bound " +
+                         num(e.at_bound == "lower" ? ps.lower : ps.upper) +
+                         ": the data drive it out of its range or do not need it";
+    }
   }
   if (!free_idx.empty()) {
     std::vector<double> r0(n_res), r1(n_res);
@@ -337,25 +484,24 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
            residuals_of(data, spec, vm, options, r0.data());
       for (int rI = 0; rI < n_res && ok; ++rI) jac(rI, c) = (r1[rI] - r0[rI]) / (2.0 * hstep);
     }
-    const double dof = std::max(1.0, static_cast<double>(n_res) - static_cast<double>(k));
-    const double sigma2 = 2.0 * best_cost / dof;  // Ceres cost = RSS / 2
-    if (ok) {
-      const Eigen::MatrixXd jtj = jac.transpose() * jac;
-      Eigen::JacobiSVD<Eigen::MatrixXd> svd(jtj, Eigen::ComputeFullU | Eigen::ComputeFullV);
-      const auto& sv = svd.singularValues();
-      // Not identifiable when the information matrix is numerically singular.
-      if (sv.size() > 0 && sv(sv.size() - 1) > 1e-12 * sv(0)) {
-        const Eigen::MatrixXd cov = sigma2 * jtj.inverse();
-        for (std::size_t c = 0; c < free_idx.size(); ++c) {
-          const int i = free_idx[c];
-          const double sd = std::sqrt(std::max(0.0, cov(c, c)));
-          best.estimates[i].ci_low = to_physical(spec.params[i], best_x[i] - kZ95 * sd);
-          best.estimates[i].ci_high = to_physical(spec.params[i], best_x[i] + kZ95 * sd);
-        }
+    if (!ok) {
+      for (int i : free_idx) {
+        best.estimates[i].unidentifiable =
+            "no interval: the model fails to run next to the estimate";
       }
+    } else {
+      flag_and_interval(spec, best_x, jac, free_idx, 2.0 * best_cost, n_res, best.estimates);
     }
   }
   return best;
+}
+
+std::vector<const ParamEstimate*> FitResult::unidentifiable() const {
+  std::vector<const ParamEstimate*> out;
+  for (const auto& e : estimates) {
+    if (!e.unidentifiable.empty()) out.push_back(&e);
+  }
+  return out;
 }
 
 }  // namespace rheo::identify

@@ -1,8 +1,10 @@
 // Least-squares identification of the specimen model (specimen.hpp) with Ceres: bounded
 // trust region on log-parameterised parameters, several starts, covariance-based 95 %
-// confidence intervals, parameters stuck at a bound flagged instead of given an interval.
+// confidence intervals; parameters the data do not determine (stuck at a bound, confounded
+// with others, or with a huge or non-finite interval) are flagged with the reason.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,7 +41,20 @@ DataScales data_scales(const std::vector<Measurement>& data);
 ModelSpec model_spec(Extension e, const DataScales& s);
 SpecimenParams to_params(const ModelSpec& spec, const std::vector<double>& values);
 
+// Where a fit is, for a progress display: start `start` of `starts`, solver iteration
+// `iteration` (at most max_iterations per start).
+struct FitProgress {
+  std::string model;
+  int start = 0, starts = 0;
+  int iteration = 0, max_iterations = 0;
+};
+
+// Fewest samples per fitted parameter fit_model accepts.
+inline constexpr std::size_t kMinSamplesPerParameter = 5;
+
 struct FitOptions {
+  // Called after every solver iteration when set (runs on the fitting thread).
+  std::function<void(const FitProgress&)> progress;
   int max_iterations = 40;
   double surface_weight_N_per_mm = 1.0;  // residual weight of surface_mm rows, when present
   bool use_surface = true;
@@ -52,7 +67,19 @@ struct ParamEstimate {
   std::optional<double> ci_low;  // 95 % interval; empty when at a bound or not identifiable
   std::optional<double> ci_high;
   std::string at_bound;  // "", "lower" or "upper"
+  // Why the data do not determine this parameter; empty when they do. Set when it is at a
+  // bound, when it has no effect on the residuals or only a combination with other
+  // parameters does (singular information matrix), when its interval is not finite, or when
+  // its relative standard error exceeds kMaxRelativeStandardError.
+  std::string unidentifiable;
 };
+
+// Relative standard error above which a parameter counts as not identified: beyond 100 %
+// the data cannot tell the estimate from half or twice its value (for a log-scale
+// parameter, the standard deviation of its logarithm; the 95 % interval then reaches
+// beyond a factor e^1.96 = 7 either side). A linear parameter (the sensor offset) is
+// flagged when its 95 % interval is wider than its whole allowed range.
+constexpr double kMaxRelativeStandardError = 1.0;
 
 struct FitResult {
   ModelSpec spec;
@@ -65,6 +92,8 @@ struct FitResult {
   int starts = 0;
   int iterations = 0;
   std::vector<double> rmse_per_file_N;
+  // Estimates flagged as not identifiable (pointers into `estimates`).
+  std::vector<const ParamEstimate*> unidentifiable() const;
 };
 
 // Force RMSE of a parameter set on a set of files.

@@ -208,6 +208,16 @@ Prediction simulate(const Measurement& protocol, const SpecimenParams& p,
   check_positive(p.c2, "c2");
   if (p.hardening < 0.0) throw Error("specimen model: hardening < 0, expected >= 0");
   if (p.lag_s < 0.0) throw Error("specimen model: lag_s < 0, expected >= 0");
+  // A NaN here would reach an int conversion of the step count below (undefined behaviour):
+  // options are checked where they enter, whoever set them.
+  if (!(std::isfinite(options.max_dt) && options.max_dt > 0.0)) {
+    throw Error("specimen model: max_dt = " + std::to_string(options.max_dt) +
+                " s, expected a finite time step > 0");
+  }
+  if (!(std::isfinite(options.steps_per_time_constant) && options.steps_per_time_constant > 0.0) ||
+      options.max_steps < 1) {
+    throw Error("specimen model: steps_per_time_constant and max_steps must be finite and > 0");
+  }
   const Geometry& g = protocol.geometry;
   const Column col = make_column(g, p);
   const double h = col.h;

@@ -1,5 +1,5 @@
 // The specimen model the fits run: the reference model's three-element edge kernel
-// (sim/edge_kernel.hpp, design.md §3) on a coarse mesh of the specimen, driven by a
+// (sim/edge_kernel.hpp, docs/model.md) on a coarse mesh of the specimen, driven by a
 // measured plate history, plus the observation side (sensor lag and offset).
 //
 // Coarse mesh: a 1-D column of two particles (bottom fixed on the floor, top touched by the
@@ -11,7 +11,7 @@
 //
 // Time update: the particle is massless (the quasi-static limit m -> 0 of the reference
 // Simulator's mass-point update), which removes the inertial stiffness that forces
-// dt ~ 1e-6 s with clay viscosities (design.md §3, stiffness warning). In contact the top
+// dt ~ 1e-6 s with clay viscosities (docs/model.md, explicit stability bound). In contact the top
 // particle follows the plate and the edge states (Voigt length d, Maxwell-arm extension m)
 // advance with the trapezoidal rule; out of contact the top particle moves so that the edge
 // tension is zero and the states advance with backward Euler (stiff elastic recovery).
@@ -27,7 +27,7 @@
 
 namespace rheo::identify {
 
-// Candidate causes of misfit (design.md §7 vocabulary).
+// Candidate causes of misfit (the cause vocabulary of docs/data-format.md).
 enum class Extension {
   kNone,
   kSecondRelaxationTime,

@@ -1,4 +1,4 @@
-// Writer of the measured-data contract CSV (design.md §7): `#` metadata lines, then
+// Writer of the measured-data contract CSV (docs/data-format.md): `#` metadata lines, then
 // time_s,plate_mm,force_N,surface_mm. A simulated run is written in exactly the form a
 // measurement takes, so that fitting and diagnosis read both the same way.
 #pragma once

@@ -33,7 +33,7 @@ void plot_force_csv(const PlotRequest& r) {
     if (!gp) throw Error(script_path + ": cannot create file: " + std::strerror(errno));
     const std::string csv = quoted(r.csv_name);
     const std::string skip = " skip " + std::to_string(r.csv_header_lines);
-    gp << "# Plot of " << r.csv_name << " (design.md section 7 columns). Re-run: gnuplot "
+    gp << "# Plot of " << r.csv_name << " (docs/data-format.md columns). Re-run: gnuplot "
        << r.script_name << "\n"
        << "set terminal pngcairo size 1000,800 font 'sans,10'\n"
        << "set output " << quoted(r.png_name) << "\n"

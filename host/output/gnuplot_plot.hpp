@@ -1,4 +1,4 @@
-// PNG plot of a force CSV (design.md §7 columns): plate force, and plate and top-surface
+// PNG plot of a force CSV (docs/data-format.md columns): plate force, and plate and top-surface
 // displacement, against time. Drawn by gnuplot (package gnuplot-nox) run as a subprocess
 // on a generated script, which is kept next to the PNG so the plot can be restyled.
 #pragma once

@@ -23,6 +23,11 @@ class StagedDirectory {
   // Where the results will be after commit().
   const std::string& target() const { return target_; }
 
+  // Where to write a file the user named: a path inside the target directory is written at
+  // its place in the staging directory (so it appears with the rest at commit()); any
+  // other path is returned unchanged.
+  std::string map(const std::string& user_path) const;
+
   // Moves the staged results to the target (replacing an old target when allowed).
   void commit();
 

@@ -36,7 +36,7 @@ def model_b_stress():
 
 
 def three_element_stress(k1, c1, c2):
-    """design.md section 3 in 1-D: d' = (c2 e' - k1 d) / (c1 + c2), sigma = k1 d + c1 d'."""
+    """docs/model.md in 1-D: d' = (c2 e' - k1 d) / (c1 + c2), sigma = k1 d + c1 d'."""
     d = 0.0
     out = []
     for i in range(STEPS):

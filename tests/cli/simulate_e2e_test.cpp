@@ -3,7 +3,6 @@
 // fails with a message naming the problem and leaves no output, and that clay_push's
 // force curve has the shape of seed 002's experiment.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -14,27 +13,14 @@
 #include <vector>
 
 #include "sim/scenarios/builtin.hpp"
+#include "tests/cli/run_rheo.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-RunResult run_rheo(const std::string& args) {
-  const std::string command = std::string(RHEO_BINARY) + " " + args + " 2>&1";
-  RunResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return r;
-  char buf[4096];
-  while (std::fgets(buf, sizeof buf, pipe)) r.output += buf;
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using rheo::testing_support::run_rheo;
+using rheo::testing_support::RunResult;
 
 // A fresh scratch directory per test, removed afterwards.
 class SimulateTest : public testing::Test {

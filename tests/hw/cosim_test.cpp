@@ -15,7 +15,8 @@ constexpr long kLongRunSteps = 10000;
 // Measured cycles per step may differ from the formula by at most 2 % (issue 3).
 constexpr double kCycleFormulaTolerance = 0.02;
 // Fixed point against double after 10,000 steps: positions within 1e-3 of the object size
-// (design.md §5 target; quantisation of x (2^-27 units) and p (2^-31 units) per step).
+// (the hardware target, docs/hardware.md "Verification"; quantisation of x (2^-27 units)
+// and p (2^-31 units) per step).
 constexpr double kMaxPositionErrorRel = 1e-3;
 // The plate-force word is compared every step; the 750 particle state words every 5th
 // step, which keeps the read-back clocks (2 per word) from dominating the test time.

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "host/identify/diagnose.hpp"
@@ -63,6 +65,116 @@ TEST(Fit, ParameterWithNothingToExplainIsFlaggedAtItsBoundWithoutInterval) {
   EXPECT_EQ(r.estimates[3].name, "hardening");
   EXPECT_EQ(r.estimates[3].at_bound, "lower");
   EXPECT_FALSE(r.estimates[3].ci_low.has_value());
+  EXPECT_NE(r.estimates[3].unidentifiable.find("lower bound"), std::string::npos);
+  ASSERT_EQ(r.unidentifiable().size(), 1u);
+  EXPECT_EQ(r.unidentifiable()[0]->name, "hardening");
+  // The three-element parameters are excited by this test and stay identified.
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(r.estimates[i].unidentifiable, "") << r.estimates[i].name;
+}
+
+// A steady compression at constant plate speed, sampled only long after the start: the
+// column then carries T = c2 * rate whatever E1 and c1 are (the Voigt part has stopped
+// moving), so the data determine c2 and nothing else.
+Measurement steady_flow_only(const SpecimenParams& truth) {
+  Measurement m;
+  m.source = "steady_flow";
+  m.geometry = Geometry{10.0, 20.0, 20.0};
+  constexpr double kSpeedMmPerS = 1e-3;
+  // Starts at 40 relaxation times (c1 + c2) / E1 = 11 s: the start-up transient is
+  // exp(-40) ~ 4e-18 of the force, below double rounding.
+  for (double t = 440.0; t <= 540.0; t += 1.0) {
+    m.time_s.push_back(t);
+    m.plate_mm.push_back(kSpeedMmPerS * t);
+    m.surface_mm.push_back(std::numeric_limits<double>::quiet_NaN());
+  }
+  m.force_N = simulate(m, truth).force_N;
+  add_load_cell_noise(m, 1e-5, 0.0, 5);
+  return m;
+}
+
+TEST(Identifiability, ParametersTheDataDoNotExciteAreFlaggedAndTheExcitedOneKeepsItsInterval) {
+  const std::vector<Measurement> data{steady_flow_only(truth())};
+  const FitResult r = fit_model(data, model_spec(Extension::kNone, data_scales(data)), {});
+  // c2 is what a steady flow measures.
+  EXPECT_EQ(r.estimates[2].unidentifiable, "");
+  ASSERT_TRUE(r.estimates[2].ci_low.has_value());
+  EXPECT_LT(*r.estimates[2].ci_low, truth().c2);
+  EXPECT_GT(*r.estimates[2].ci_high, truth().c2);
+  // E1 and c1 only shape a transient the data do not contain.
+  EXPECT_NE(r.estimates[0].unidentifiable, "") << r.estimates[0].value;
+  EXPECT_NE(r.estimates[1].unidentifiable, "") << r.estimates[1].value;
+  const nlohmann::json j = fit_json(r);
+  ASSERT_EQ(j["unidentifiable"].size(), 2u) << j.dump(2);
+  EXPECT_EQ(j["unidentifiable"][0]["param"], "E1_Pa");
+  EXPECT_EQ(j["unidentifiable"][1]["param"], "c1_Pa_s");
+  EXPECT_TRUE(j["params"][0].contains("unidentifiable"));
+  EXPECT_FALSE(j["params"][2].contains("unidentifiable"));
+  const std::string warnings = unidentifiable_warnings(r);
+  EXPECT_NE(warnings.find("warning: three_element: E1_Pa"), std::string::npos) << warnings;
+  EXPECT_EQ(warnings.find("c2_Pa_s"), std::string::npos) << warnings;
+}
+
+// The case the issue reported: the hydrogel export's baseline fit ends with intervals
+// spanning [0, inf) or none at all, and used to exit without a word. Every parameter
+// without a usable interval must now carry a reason.
+TEST(Identifiability, HydrogelBaselineWithoutUsableIntervalsIsFlagged) {
+  const std::vector<Measurement> data{
+      load_any(std::string(RHEO_SHARED_DIR) + "/data/real/cnf_hydrogel_relaxation_rep2.csv")};
+  const FitResult r = fit_model(data, model_spec(Extension::kNone, data_scales(data)), {});
+  EXPECT_FALSE(r.unidentifiable().empty());
+  for (const auto& e : r.estimates) {
+    const bool usable = e.ci_low && e.ci_high && std::isfinite(*e.ci_low) &&
+                        std::isfinite(*e.ci_high) && *e.ci_low > 0.0 &&
+                        *e.ci_high / *e.ci_low < 100.0;
+    if (!usable) {
+      EXPECT_NE(e.unidentifiable, "") << e.name;
+    }
+  }
+}
+
+TEST(Identifiability, WellExcitedFitHasNoFlags) {
+  const std::vector<Measurement> data{short_test(truth(), 0.01, 11)};
+  const FitResult r = fit_model(data, model_spec(Extension::kNone, data_scales(data)), {});
+  EXPECT_TRUE(r.unidentifiable().empty()) << unidentifiable_warnings(r);
+  EXPECT_TRUE(fit_json(r)["unidentifiable"].empty());
+}
+
+TEST(Reports, DiagnosisJsonKeepsTheContractAndAddsAssumptionsAndFlags) {
+  Measurement m = short_test(truth(), 0.01, 11);
+  m.source = "relax.tsv";
+  m.import.test_type = "relaxation_table";
+  m.import.geometry_source = "--geometry";
+  m.import.strain = 0.02;
+  m.import.strain_source = "--strain";
+  const std::vector<Measurement> data{m};
+  Diagnosis d;
+  d.baseline = fit_model(data, model_spec(Extension::kNone, data_scales(data)), {});
+  d.inputs = inputs_of(data, {});
+  d.evidence = "test";
+  const nlohmann::json j = diagnosis_json(d);
+  for (const char* k : {"baseline", "finding", "extended", "gain", "candidates"}) {
+    EXPECT_TRUE(j.contains(k)) << k;
+  }
+  for (const char* k : {"model", "params", "rmse_fit_N", "rmse_holdout_N", "aic"}) {
+    EXPECT_TRUE(j["baseline"].contains(k)) << k;
+    EXPECT_TRUE(j["extended"].contains(k)) << k;
+  }
+  EXPECT_EQ(j["finding"]["cause"], "none");
+  EXPECT_EQ(j["gain"]["holdout_rmse_ratio"], 1.0);
+  EXPECT_TRUE(j["baseline"]["unidentifiable"].is_array());
+  EXPECT_EQ(j["extended"]["unidentifiable"], j["baseline"]["unidentifiable"]);
+  ASSERT_EQ(j["assumptions"].size(), 1u);
+  const auto& a = j["assumptions"][0];
+  EXPECT_EQ(a["file"], "relax.tsv");
+  EXPECT_EQ(a["role"], "fit");
+  EXPECT_EQ(a["test_type"], "relaxation_table");
+  EXPECT_EQ(a["geometry_mm"]["height"], 10.0);
+  EXPECT_EQ(a["geometry_mm"]["width"], 20.0);
+  EXPECT_EQ(a["geometry_source"], "--geometry");
+  EXPECT_EQ(a["strain"], 0.02);
+  EXPECT_EQ(a["strain_source"], "--strain");
+  EXPECT_TRUE(a.contains("modulus_conversion"));
+  EXPECT_TRUE(a.contains("units"));
 }
 
 TEST(Phases, PushHoldReleaseAndAfterReleaseAreLabelled) {

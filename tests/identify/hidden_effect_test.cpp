@@ -39,7 +39,8 @@ TEST_P(HiddenEffectTest, DiagnoseNamesTheHiddenCause) {
             run_lumped(body, holdout_protocol, kNoiseN, c.seed + 1000));
   const std::string cmd = std::string(RHEO_BIN) + " diagnose '" + (dir / "fit.csv").string() +
                           "' --holdout '" + (dir / "holdout.csv").string() + "' --out '" +
-                          (dir / "out").string() + "' > '" + (dir / "log.txt").string() + "' 2>&1";
+                          (dir / "out").string() + "' --force > '" + (dir / "log.txt").string() +
+                          "' 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << "rheo diagnose failed, see " << dir / "log.txt";
   std::ifstream in(dir / "out" / "diagnosis.json");
   ASSERT_TRUE(in.good());

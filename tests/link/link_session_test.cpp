@@ -6,7 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <filesystem>
+#include <iostream>
+#include <mutex>
 #include <thread>
 
 #include "host/driver/bittrue_transport.hpp"
@@ -422,16 +426,24 @@ TEST(NullCore, AnswersEveryCommandWithTheOwedNumberOfWordsAndACleanStatus) {
 namespace rheo::link {
 namespace {
 
-// `serve` with the bit-true core on a socket in a temporary directory, in a thread.
+// `serve` with the bit-true core on a socket in a temporary directory, in a thread. Keeps the
+// server's log lines so tests can wait for a session event instead of sleeping.
 class SocketServerThread {
  public:
-  SocketServerThread() {
+  explicit SocketServerThread(ServerOptions options = {}) : options_(std::move(options)) {
     char t[] = "/tmp/rheo-link-session-XXXXXX";
     if (!::mkdtemp(t)) throw Error("mkdtemp");
     dir_ = t;
     listener_ = std::make_unique<SocketListener>(dir_ + "/core.sock");
     options_.lanes = kLanes;
     options_.stop = &stop_;
+    options_.log = [this](const std::string& line) {
+      {
+        std::lock_guard lock(log_mutex_);
+        log_.push_back(line);
+      }
+      logged_.notify_all();
+    };
     thread_ = std::thread([this] {
       serve(
           *listener_, [] { return std::make_unique<driver::BitTrueTransport>(kLanes); }, options_);
@@ -443,13 +455,27 @@ class SocketServerThread {
     listener_.reset();
     std::filesystem::remove_all(dir_);
   }
-  std::string backend() const { return "remote:" + listener_->path(); }
+  const std::string& path() const { return listener_->path(); }
+  std::string backend() const { return "remote:" + path(); }
+  // Waits up to `limit` for a log line containing `text`; true if one came.
+  bool wait_for_log(const std::string& text, Milliseconds limit) {
+    std::unique_lock lock(log_mutex_);
+    return logged_.wait_for(lock, limit, [&] {
+      for (const std::string& line : log_) {
+        if (line.find(text) != std::string::npos) return true;
+      }
+      return false;
+    });
+  }
 
  private:
   std::string dir_;
   std::unique_ptr<SocketListener> listener_;
   std::atomic<bool> stop_{false};
   ServerOptions options_;
+  std::mutex log_mutex_;
+  std::condition_variable logged_;
+  std::vector<std::string> log_;
   std::thread thread_;
 };
 
@@ -485,6 +511,192 @@ TEST(BackendRun, RemoteAndInProcessBitTrueGiveIdenticalForcesAndPositions) {
   EXPECT_EQ(remote.positions, local.positions);
   EXPECT_EQ(local.positions.size(), 2u);
   EXPECT_GT(local.plate_mm.back(), 0.0);
+}
+
+}  // namespace
+}  // namespace rheo::link
+
+namespace rheo::link {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using std::chrono::duration_cast;
+
+// What the issue asks of a second host: service or "busy" within this.
+constexpr Milliseconds kAnswerBound{1000};
+// The idle timeout in the idle tests: short to keep them fast, long enough that a loaded
+// machine does not mistake the gaps between a running host's frames for silence.
+constexpr Milliseconds kShortIdle{300};
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// A host below LinkClient, so a test controls exactly what it sends and sees exactly what the
+// server sends back.
+struct RawHost {
+  explicit RawHost(const std::string& path)
+      : socket(SocketTransport::connect(path, kTestTimeout)), channel(*socket, "server") {}
+  void say_hello() {
+    const std::uint32_t hello[] = {kLinkProtocol, 0, kMaxPayloadBytes};
+    channel.send_words(FrameType::kHello, hello, kTestTimeout);
+    ASSERT_EQ(channel.receive(kTestTimeout).type, FrameType::kHello);
+  }
+  std::unique_ptr<SocketTransport> socket;
+  FrameChannel channel;
+};
+
+// A few steps on `device`, checked against the in-process bit-true core: the host is served
+// with a fresh core and correct results.
+void expect_correct_results(driver::Device& device) {
+  const Workload& w = workload();
+  driver::Device local(std::make_unique<driver::BitTrueTransport>(kLanes));
+  local.load(w.image);
+  device.load(w.image);
+  const auto plates = w.plate_words(0, 40);
+  EXPECT_EQ(device.run(plates), local.run(plates));
+  EXPECT_EQ(device.read_particle_state(0, w.image.num_particles),
+            local.read_particle_state(0, w.image.num_particles));
+}
+
+// The issue's acceptance check: one host says hello and goes silent; further hosts, connecting
+// together, each hear "busy" within a second, as the user sees it through --backend
+// remote:PATH, and the first host's session is not disturbed by them.
+TEST(ServerBusy, FurtherHostsAreToldBusyWithinASecondWhileASilentHostHoldsTheServer) {
+  SocketServerThread server;
+  auto first = RemoteTransport::connect_socket(server.path(), kTestTimeout);
+  struct Outcome {
+    std::optional<LinkFault> fault;
+    std::string message;
+    Milliseconds waited{-1};
+  };
+  constexpr int kHosts = 3;
+  std::vector<Outcome> outcomes(kHosts);
+  std::vector<std::thread> hosts;
+  for (int i = 0; i < kHosts; ++i) {
+    hosts.emplace_back([&server, &outcome = outcomes[i]] {
+      BackendOptions options;
+      options.lanes = kLanes;
+      options.timeout = kTestTimeout;  // a timeout would take this long: busy must come sooner
+      const auto t0 = Clock::now();
+      try {
+        make_device(server.backend(), options);
+        outcome.message = "served while another host held the server";
+      } catch (const LinkError& e) {
+        outcome.fault = e.fault();
+        outcome.message = e.what();
+      }
+      outcome.waited = duration_cast<Milliseconds>(Clock::now() - t0);
+    });
+  }
+  for (std::thread& t : hosts) t.join();
+  for (int i = 0; i < kHosts; ++i) {
+    const Outcome& o = outcomes[i];
+    std::cout << "busy answer to host " << i << " after " << o.waited.count() << " ms\n";
+    RecordProperty("busy_answer_ms_" + std::to_string(i), int(o.waited.count()));
+    EXPECT_EQ(o.fault, LinkFault::kBusy) << o.message;
+    EXPECT_LT(o.waited, kAnswerBound) << o.message;
+    EXPECT_TRUE(
+        contains(o.message, "cosim-server at " + server.path() + " is busy serving another host"))
+        << o.message;
+    EXPECT_TRUE(contains(o.message, "try again later")) << o.message;
+  }
+  driver::Device device(std::move(first));
+  expect_correct_results(device);
+}
+
+TEST(ServerBusy, TheBusyAnswerDoesNotWaitForTheHostsHello) {
+  SocketServerThread server;
+  auto first = RemoteTransport::connect_socket(server.path(), kTestTimeout);
+  RawHost host(server.path());  // connects, sends nothing
+  const Frame answer = host.channel.receive(kAnswerBound);
+  EXPECT_EQ(answer.type, FrameType::kError);
+  EXPECT_TRUE(is_busy_error(answer.text())) << answer.text();
+  try {
+    host.channel.receive(kTestTimeout);
+    FAIL() << "the server kept a host it turned away";
+  } catch (const LinkError& e) {
+    EXPECT_EQ(e.fault(), LinkFault::kClosed) << e.what();
+  }
+}
+
+TEST(ServerBusy, TheNextHostIsServedRightAfterTheHolderLeaves) {
+  SocketServerThread server;
+  for (int session = 0; session < 3; ++session) {
+    driver::Device device(RemoteTransport::connect_socket(server.path(), kTestTimeout));
+    expect_correct_results(device);
+  }  // each host leaves and the next connects at once: served, not turned away
+}
+
+// A host that says hello and then nothing loses its session after the idle timeout, with a
+// message that says so; the server goes back to accepting and serves the next host normally.
+TEST(ServerIdle, SilentSessionIsClosedWithTheIdleMessageAndTheNextHostIsServed) {
+  ServerOptions options;
+  options.idle_timeout = kShortIdle;
+  SocketServerThread server(options);
+  RawHost host(server.path());
+  ASSERT_NO_FATAL_FAILURE(host.say_hello());
+  const auto t0 = Clock::now();
+  const Frame closing = host.channel.receive(kTestTimeout);  // bounded: a hang fails here
+  const auto waited = duration_cast<Milliseconds>(Clock::now() - t0);
+  std::cout << "idle session closed after " << waited.count() << " ms\n";
+  EXPECT_EQ(closing.type, FrameType::kError);
+  EXPECT_EQ(closing.text(), "idle for 0.3 s: session closed");
+  // Not early: the server's clock started before ours, so allow it a little lead.
+  EXPECT_GE(waited, kShortIdle / 2);
+  EXPECT_THROW(host.channel.receive(kTestTimeout), LinkError);
+  EXPECT_TRUE(server.wait_for_log("session ended: idle for 0.3 s", kTestTimeout));
+
+  const auto t1 = Clock::now();
+  driver::Device device(RemoteTransport::connect_socket(server.path(), kTestTimeout));
+  EXPECT_LT(Clock::now() - t1, kAnswerBound);
+  expect_correct_results(device);
+}
+
+// What the user of an idle host reads: the session was closed for silence, not a link fault.
+TEST(ServerIdle, TheHostOfAClosedIdleSessionIsToldWhy) {
+  ServerOptions options;
+  options.idle_timeout = kShortIdle;
+  SocketServerThread server(options);
+  driver::Device device(RemoteTransport::connect_socket(server.path(), kTestTimeout));
+  ASSERT_TRUE(server.wait_for_log("session ended: idle for", kTestTimeout));
+  try {
+    device.read_status(false);
+    FAIL() << "a closed session answered";
+  } catch (const LinkError& e) {
+    EXPECT_EQ(e.fault(), LinkFault::kIdleTimeout) << e.what();
+    EXPECT_TRUE(contains(e.what(), "ended this session because the host sent nothing")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "idle for 0.3 s: session closed")) << e.what();
+  }
+}
+
+// The idle timeout is for silence between frames; a frame the host has begun is bounded by the
+// io timeout and reported as a truncated frame, however long the idle timeout.
+TEST(ServerIdle, AHostStalledInsideAFrameIsATruncatedFrameAfterTheIoTimeout) {
+  ServerOptions options;
+  options.io_timeout = kShortIdle;
+  options.idle_timeout = Milliseconds(60000);
+  SocketServerThread server(options);
+  RawHost host(server.path());
+  ASSERT_NO_FATAL_FAILURE(host.say_hello());
+  const auto frame = encode_word_frame(FrameType::kCommand, 1, std::vector<std::uint32_t>{1, 2});
+  host.socket->send(std::span(frame.data(), 10), kTestTimeout);  // header begun, never finished
+  const Frame closing = host.channel.receive(kTestTimeout);
+  EXPECT_EQ(closing.type, FrameType::kError);
+  EXPECT_TRUE(contains(closing.text(), "truncated frame")) << closing.text();
+  EXPECT_TRUE(contains(closing.text(), "300 ms")) << closing.text();
+  EXPECT_FALSE(is_idle_error(closing.text())) << closing.text();
+}
+
+TEST(CosimServerOptions, NonPositiveTimeoutsAreRefused) {
+  ServerOptions options;
+  options.idle_timeout = Milliseconds(0);
+  int fds[2];
+  ASSERT_EQ(::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds), 0);
+  SocketTransport a(fds[0], "a"), b(fds[1], "b");
+  EXPECT_THROW(serve_session(
+                   a, [] { return std::make_unique<driver::BitTrueTransport>(kLanes); }, options),
+               Error);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // A single three-element edge held at a fixed length relaxes with one exponential of
-// time constant (c1 + c2) / k1 (design.md §3; the property seed 002 finds too simple).
+// time constant (c1 + c2) / k1 (docs/model.md; the property seed 002 finds too simple).
 #include <gtest/gtest.h>
 
 #include <cmath>

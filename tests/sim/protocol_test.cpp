@@ -47,3 +47,35 @@ TEST(PushHoldRelease, RejectsANonPositiveSpeed) {
 
 }  // namespace
 }  // namespace rheo
+
+namespace rheo {
+namespace {
+
+TEST(PlateProtocolPhases, PushHoldReleaseGivesItsFourPhasesWithTheirTimes) {
+  const PlateProtocol p = PlateProtocol::push_hold_release(8.0, 4.0, 3.0, 3.0);
+  const std::vector<ProtocolPhase> phases = p.phases();
+  ASSERT_EQ(phases.size(), 4u);
+  EXPECT_EQ(phases[0].kind, PhaseKind::kPush);
+  EXPECT_EQ(phases[1].kind, PhaseKind::kHold);
+  EXPECT_EQ(phases[2].kind, PhaseKind::kRelease);
+  EXPECT_EQ(phases[3].kind, PhaseKind::kRest);
+  EXPECT_DOUBLE_EQ(phases[0].t_end, 2.0);
+  EXPECT_DOUBLE_EQ(phases[1].t_end, 5.0);
+  EXPECT_DOUBLE_EQ(phases[2].t_end, 7.0);
+  EXPECT_DOUBLE_EQ(phases[3].t_end, 10.0);
+  EXPECT_STREQ(phase_name(phases[1].kind), "hold");
+}
+
+TEST(PlateProtocolPhases, MergesNeighbouringSegmentsOfOneKind) {
+  PlateProtocol p;
+  p.t = {0.0, 1.0, 2.0, 3.0, 4.0};
+  p.plate_mm = {0.0, 1.0, 3.0, 3.0, 3.0};  // two push speeds, two hold knots
+  const std::vector<ProtocolPhase> phases = p.phases();
+  ASSERT_EQ(phases.size(), 2u);
+  EXPECT_EQ(phases[0].kind, PhaseKind::kPush);
+  EXPECT_DOUBLE_EQ(phases[0].t_end, 2.0);
+  EXPECT_EQ(phases[1].kind, PhaseKind::kHold);
+}
+
+}  // namespace
+}  // namespace rheo

@@ -39,12 +39,16 @@ BackendRunSummary run_scenario_on_backend(const Scenario& scenario,
         {s + 1, t, scenario.protocol.displacement_mm(t), driver::from_f_word(word, image)});
   };
   c.state = [&](std::uint64_t done, std::span<const std::int32_t> words) {
-    if (!callbacks.positions) return;
-    std::vector<Vec3> x(static_cast<std::size_t>(image.num_particles));
+    if (!callbacks.positions && !callbacks.state) return;
+    std::vector<Vec3> x(static_cast<std::size_t>(image.num_particles)), v(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) {
-      for (int a = 0; a < 3; ++a) x[i][a] = driver::from_x_word(words[6 * i + a], image);
+      for (int a = 0; a < 3; ++a) {
+        x[i][a] = driver::from_x_word(words[6 * i + a], image);
+        v[i][a] = driver::from_p_word(words[6 * i + 3 + a], image);
+      }
     }
-    callbacks.positions(done, x);
+    if (callbacks.positions) callbacks.positions(done, x);
+    if (callbacks.state) callbacks.state(done, x, v);
   };
   run_streaming(backend.device->transport(), o, c);
   return {backend.name, backend.lanes, image.dropped_features};

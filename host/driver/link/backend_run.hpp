@@ -1,7 +1,8 @@
 // A scenario run on any fixed-point backend (bittrue, rtl, remote:PATH), streamed: the plate
 // history goes in one position per step, the plate force comes back per step in newtons, the
-// particle positions every K steps. What a command needs to offer `--backend` beside the
-// double reference model: bittrue, rtl and remote give bit-identical numbers.
+// particle positions and velocities every K steps (the edges' Voigt lengths are not read back).
+// What a command needs to offer `--backend` beside the double reference model: bittrue, rtl and
+// remote give bit-identical numbers.
 #pragma once
 
 #include <cstdint>
@@ -28,13 +29,19 @@ struct BackendRunOptions {
 struct BackendStep {
   std::uint64_t step = 0;  // 1-based: the state after this many steps
   double time_s = 0.0;
-  double plate_mm = 0.0;  // plate displacement from first contact (design.md §7)
+  double plate_mm = 0.0;  // plate displacement from first contact (docs/data-format.md)
   double force_N = 0.0;   // reaction force on the plate, same sign as the reference model
 };
 
 struct BackendRunCallbacks {
   std::function<void(const BackendStep&)> step;
   std::function<void(std::uint64_t steps_done, const std::vector<Vec3>& positions)> positions;
+  // The same checkpoints with the velocities the core holds (its p words: displacement per
+  // step, converted to m/s). Either callback or both may be set; the {} lets callers that list
+  // only step and positions leave this one out without a missing-initializer warning.
+  std::function<void(std::uint64_t steps_done, const std::vector<Vec3>& positions,
+                     const std::vector<Vec3>& velocities)>
+      state{};
 };
 
 struct BackendRunSummary {

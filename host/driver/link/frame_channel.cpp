@@ -54,11 +54,13 @@ std::optional<Frame> FrameChannel::try_receive(Milliseconds slice) {
   }
 }
 
+void FrameChannel::throw_if_mid_frame(std::string_view reason) const {
+  if (parser_.mid_frame()) parser_.finish(reason);
+}
+
 Frame FrameChannel::receive(Milliseconds timeout) {
   if (auto frame = try_receive(timeout)) return std::move(*frame);
-  if (parser_.mid_frame()) {
-    parser_.finish("no byte from " + peer_ + " for " + std::to_string(timeout.count()) + " ms");
-  }
+  throw_if_mid_frame("no byte from " + peer_ + " for " + std::to_string(timeout.count()) + " ms");
   throw LinkError(LinkFault::kTimeout,
                   "no frame from " + peer_ + " within " + std::to_string(timeout.count()) + " ms");
 }

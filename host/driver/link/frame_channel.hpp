@@ -31,6 +31,9 @@ class FrameChannel {
   std::optional<Frame> try_receive(Milliseconds slice);
   // Bytes of a frame begun but not complete (for "stalled mid-frame" messages).
   std::size_t partial_frame_bytes() const { return parser_.buffered_bytes(); }
+  // Throws LinkError(kTruncated) naming the frame begun and not completed (`reason` says why
+  // the wait for its rest ended); does nothing between frames.
+  void throw_if_mid_frame(std::string_view reason) const;
 
   ByteTransport& transport() { return transport_; }
   const std::string& peer() const { return peer_; }

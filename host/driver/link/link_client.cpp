@@ -9,6 +9,25 @@ namespace {
 
 // How often the reader thread looks at the stop flag while the link is quiet.
 constexpr Milliseconds kReaderSlice{50};
+// How long a host whose hello could not be sent looks for the server's reason: a server that
+// turns hosts away writes its answer before it hangs up, so the answer is already here.
+constexpr Milliseconds kRefusalGrace{200};
+
+// An error frame from the device, as the user should read it. A busy server and an idle
+// timeout are not faults of the link: they get their own kind and say what to do about them.
+LinkError remote_error(const std::string& peer, const std::string& text, bool at_hello) {
+  if (is_busy_error(text)) {
+    return LinkError(LinkFault::kBusy,
+                     peer + " is busy serving another host (it answered: " + text + ")");
+  }
+  if (is_idle_error(text)) {
+    return LinkError(LinkFault::kIdleTimeout,
+                     peer + " ended this session because the host sent nothing (it answered: " +
+                         text + "); a new connection starts a new session");
+  }
+  return LinkError(LinkFault::kRemoteError,
+                   peer + (at_hello ? " refused the session: " : " reported: ") + text);
+}
 
 }  // namespace
 
@@ -16,12 +35,25 @@ LinkClient::LinkClient(std::unique_ptr<ByteTransport> transport, std::string pee
                        Milliseconds timeout)
     : transport_(std::move(transport)), channel_(*transport_, std::move(peer)), timeout_(timeout) {
   const std::uint32_t hello[] = {kLinkProtocol, 0, kMaxPayloadBytes};
-  channel_.send_words(FrameType::kHello, hello, timeout_);
-  const Frame reply = channel_.receive(timeout_);
-  if (reply.type == FrameType::kError) {
-    throw LinkError(LinkFault::kRemoteError,
-                    channel_.peer() + " refused the session: " + reply.text());
+  try {
+    channel_.send_words(FrameType::kHello, hello, timeout_);
+  } catch (const LinkError& e) {
+    // A busy server may answer and hang up before our hello is out; its answer, waiting in
+    // our receive buffer, explains the closed connection.
+    if (e.fault() != LinkFault::kClosed) throw;
+    std::optional<Frame> answer;
+    try {
+      answer = channel_.try_receive(kRefusalGrace);
+    } catch (const LinkError&) {
+      throw e;
+    }
+    if (answer && answer->type == FrameType::kError) {
+      throw remote_error(channel_.peer(), answer->text(), true);
+    }
+    throw;
   }
+  const Frame reply = channel_.receive(timeout_);
+  if (reply.type == FrameType::kError) throw remote_error(channel_.peer(), reply.text(), true);
   const auto words = reply.words();
   if (reply.type != FrameType::kHello || words.size() < 3) {
     throw LinkError(LinkFault::kProtocol, "expected a hello frame of 3 words from " +
@@ -52,7 +84,7 @@ void LinkClient::reader_loop() {
       partial_frame_bytes_ = channel_.partial_frame_bytes();
       if (!frame) continue;
       if (frame->type == FrameType::kError) {
-        throw LinkError(LinkFault::kRemoteError, channel_.peer() + " reported: " + frame->text());
+        throw remote_error(channel_.peer(), frame->text(), false);
       }
       if (frame->type != FrameType::kResponse) {
         throw LinkError(LinkFault::kProtocol, "expected a response frame from " + channel_.peer() +

@@ -41,7 +41,9 @@ struct LinkStats {
 
 class LinkClient {
  public:
-  // Exchanges hello frames within `timeout`; the same timeout bounds every later wait.
+  // Exchanges hello frames within `timeout`; the same timeout bounds every later wait. A server
+  // busy with another host is LinkError(kBusy); a session the server closed for silence shows
+  // up later as LinkError(kIdleTimeout) from send or receive.
   LinkClient(std::unique_ptr<ByteTransport> transport, std::string peer, Milliseconds timeout);
   // Sends a shutdown frame only if asked (shutdown_server); always stops the reader.
   ~LinkClient();

@@ -19,6 +19,8 @@ enum class LinkFault {
   kTimeout,         // no frame arrived within the time limit
   kClosed,          // the peer closed the connection (or died) between frames
   kRemoteError,     // the peer reported an error frame
+  kBusy,            // the server is serving another host and turned this one away
+  kIdleTimeout,     // the server closed the session because the host sent nothing for too long
   kProtocol,        // well-formed frames with unexpected content (e.g. wrong response length)
   kDeviceOverflow,  // the core raised its sticky overflow flags: its numbers are not valid
   kIo,              // an operating-system error on the transport

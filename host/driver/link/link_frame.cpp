@@ -46,6 +46,10 @@ const char* to_string(LinkFault fault) {
       return "connection closed";
     case LinkFault::kRemoteError:
       return "remote error";
+    case LinkFault::kBusy:
+      return "server busy";
+    case LinkFault::kIdleTimeout:
+      return "idle timeout";
     case LinkFault::kProtocol:
       return "protocol error";
     case LinkFault::kDeviceOverflow:
@@ -78,6 +82,24 @@ const char* to_string(FrameType type) {
 
 bool carries_words(FrameType type) {
   return type == FrameType::kHello || type == FrameType::kCommand || type == FrameType::kResponse;
+}
+
+std::string busy_error_text(std::string_view since) {
+  return std::string(kBusyErrorPrefix) + " serving another host since " + std::string(since) +
+         "; try again later";
+}
+
+std::string idle_error_text(double seconds) {
+  char number[32];
+  std::snprintf(number, sizeof number, "%g", seconds);
+  return std::string(kIdleErrorPrefix) + number + " s" + std::string(kIdleErrorSuffix);
+}
+
+bool is_busy_error(std::string_view text) { return text.starts_with(kBusyErrorPrefix); }
+
+bool is_idle_error(std::string_view text) {
+  return text.starts_with(kIdleErrorPrefix) &&
+         text.find(kIdleErrorSuffix) != std::string_view::npos;
 }
 
 std::vector<std::uint32_t> Frame::words() const {

@@ -42,6 +42,22 @@ enum class FrameType : std::uint8_t {
   kShutdown = 5,  // host -> device: end of session, empty payload
 };
 
+// Error-frame texts the host must tell apart from other errors. They stay ordinary error frames
+// (no new frame type), so a host that does not know them still shows a readable refusal; the
+// host recognises them by these fixed parts.
+//   busy: a server serving another host answers any further host with this at once, before
+//         (or without) its hello, and closes: "server busy: serving another host since
+//         14:02:11; try again later".
+//   idle: a server ends a session whose host sent nothing between frames for its idle timeout:
+//         "idle for 60 s: session closed".
+inline constexpr std::string_view kBusyErrorPrefix = "server busy:";
+inline constexpr std::string_view kIdleErrorPrefix = "idle for ";
+inline constexpr std::string_view kIdleErrorSuffix = ": session closed";
+std::string busy_error_text(std::string_view since);  // since: local time the session began
+std::string idle_error_text(double seconds);
+bool is_busy_error(std::string_view text);
+bool is_idle_error(std::string_view text);
+
 bool is_known_frame_type(std::uint8_t type);
 const char* to_string(FrameType type);
 bool carries_words(FrameType type);

@@ -1,0 +1,124 @@
+#include "host/cli/cli_options.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "hls/fixed_format.hpp"
+#include "sim/error.hpp"
+
+namespace rheo::cli {
+
+void add_output_options(CLI::App* cmd, OutputOptions& options) {
+  cmd->add_option("--out", options.out,
+                  "output directory; results appear there only when the run succeeded; it must "
+                  "not exist or be empty unless --force is given")
+      ->required();
+  cmd->add_flag("--force,-f", options.force,
+                "replace the content of an existing non-empty --out directory (only after the "
+                "run succeeded)");
+}
+
+void add_lanes_option(CLI::App* cmd, int& lanes, const std::string& what) {
+  std::set<int> counts(std::begin(hls::kLaneCounts), std::end(hls::kLaneCounts));
+  lanes = hls::kDefaultLanes;
+  cmd->add_option("--lanes", lanes, "TEM/MPM lanes of " + what)
+      ->check(CLI::IsMember(counts))
+      ->capture_default_str();
+}
+
+CLI::Validator whole_number_in(long long lo, long long hi, const std::string& what) {
+  return CLI::Validator(
+      [lo, hi, what](std::string& text) -> std::string {
+        long long v = 0;
+        if (!CLI::detail::lexical_cast(text, v) || v < lo || v > hi) {
+          return text + ": expected " + what + ", a whole number from " + std::to_string(lo) +
+                 " to " + std::to_string(hi);
+        }
+        return {};
+      },
+      std::to_string(lo) + ".." + std::to_string(hi));
+}
+
+CLI::Option* add_steps_option(CLI::App* cmd, std::optional<long long>& steps,
+                              const std::string& help) {
+  return cmd->add_option("--steps", steps, help)
+      ->check(whole_number_in(1, kMaxSteps, "a number of steps"));
+}
+
+long long steps_for_duration(double duration_s, double dt, const std::string& option) {
+  const double steps = std::ceil(duration_s / dt - 1e-9);
+  if (!std::isfinite(duration_s) || !(steps >= 1.0) || steps > static_cast<double>(kMaxSteps)) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%s %g s: expected a duration of 1 to %lld steps of dt = %g s",
+                  option.c_str(), duration_s, kMaxSteps, dt);
+    throw Error(text);
+  }
+  return static_cast<long long>(steps);
+}
+
+void add_max_dt_option(CLI::App* cmd, double& max_dt) {
+  cmd->add_option("--max-dt", max_dt, "largest time step of the specimen model [s]")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double v = 0.0;
+            if (!CLI::detail::lexical_cast(text, v) || !std::isfinite(v) || v <= 0.0 ||
+                v > kMaxSpecimenDt) {
+              return "--max-dt " + text + ": expected a finite time step in (0, " +
+                     std::to_string(static_cast<int>(kMaxSpecimenDt)) + "] s";
+            }
+            return {};
+          },
+          "SECONDS in (0, 10]"))
+      ->capture_default_str();
+}
+
+Progress::Progress(std::string what, long long total, bool enabled)
+    : what_(std::move(what)),
+      total_(std::max(total, 1LL)),
+      enabled_(enabled),
+      tty_(isatty(STDERR_FILENO) != 0) {
+  start_ = last_ = Clock::now();
+}
+
+Progress::~Progress() { finish(); }
+
+void Progress::update(long long done) {
+  if (!enabled_) return;
+  const auto now = Clock::now();
+  const int decile = static_cast<int>(10 * done / total_);
+  if (tty_) {
+    // At most four redraws a second, so printing never costs noticeable time.
+    if (now - last_ < std::chrono::milliseconds(250)) return;
+  } else if (decile <= last_decile_ || done >= total_) {
+    return;
+  }
+  last_ = now;
+  last_decile_ = decile;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double rate = done / std::max(elapsed, 1e-9);
+  const double eta = (total_ - done) / std::max(rate, 1e-9);
+  std::fprintf(stderr, "%s  %s %lld / %lld (%3.0f %%)  %.3g/s  ETA %.0f s   %s", tty_ ? "\r" : "",
+               what_.c_str(), done, total_, 100.0 * done / total_, rate, eta, tty_ ? "" : "\n");
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+void Progress::stage(const std::string& message) {
+  if (!enabled_) return;
+  const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+  std::fprintf(stderr, "%s  %s (%.0f s so far)%s", tty_ ? "\r\033[K" : "", message.c_str(), elapsed,
+               tty_ ? "" : "\n");
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+void Progress::finish() {
+  if (drawn_ && tty_) std::fprintf(stderr, "\r\033[K");
+  drawn_ = false;
+}
+
+}  // namespace rheo::cli

@@ -1,0 +1,73 @@
+// Options that several subcommands share, defined once so that every command treats them
+// alike: the output directory (staged, refused when it holds something unless --force),
+// the core's lane count (one set of values, one default) and progress on long runs.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <string>
+
+namespace rheo::cli {
+
+// --out DIR and --force. Every command that writes results stages them in a hidden
+// directory next to DIR and moves them into place only when the run succeeded
+// (output::StagedDirectory); an existing non-empty DIR is refused unless --force.
+struct OutputOptions {
+  std::string out;
+  bool force = false;
+};
+void add_output_options(CLI::App* cmd, OutputOptions& options);
+
+// --lanes L: TEM/MPM lanes of the core, one of hls::kLaneCounts, default hls::kDefaultLanes.
+void add_lanes_option(CLI::App* cmd, int& lanes, const std::string& what);
+
+// --steps N: at most kMaxSteps, which takes over an hour even on the smallest built-in model
+// (~250,000 steps/s); the limit keeps a typo (or an overflowed --duration) from running for
+// days.
+inline constexpr long long kMaxSteps = 1000000000LL;
+// A validator for a whole number in [lo, hi] whose message names the option and the range
+// (CLI11's own prints both bounds as doubles).
+CLI::Validator whole_number_in(long long lo, long long hi, const std::string& what);
+CLI::Option* add_steps_option(CLI::App* cmd, std::optional<long long>& steps,
+                              const std::string& help);
+// Steps for a simulated duration at dt, refused (rheo::Error naming `option`) when not finite,
+// not positive or above kMaxSteps.
+long long steps_for_duration(double duration_s, double dt, const std::string& option);
+
+// --max-dt S of fit and diagnose: the specimen model's largest time step, finite, in
+// (0, kMaxSpecimenDt] (above that the step no longer resolves the protocols' phases).
+inline constexpr double kMaxSpecimenDt = 10.0;
+void add_max_dt_option(CLI::App* cmd, double& max_dt);
+
+// Progress of a long run on stderr: done/total, rate and ETA. On a terminal the line is
+// redrawn in place a few times a second; otherwise (a log file, CI) one line is printed
+// about every 10 % so a log shows the run is alive without flooding it. Silent when
+// `enabled` is false (--quiet).
+class Progress {
+ public:
+  Progress(std::string what, long long total, bool enabled);
+  ~Progress();  // clears the line on a terminal
+  void update(long long done);
+  // For runs whose length is known only once they started (0 in the constructor).
+  void set_total(long long total) { total_ = std::max(total, 1LL); }
+  // A short message instead of a count (e.g. the Yosys stage that runs now).
+  void stage(const std::string& message);
+  void finish();
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string what_;
+  long long total_;
+  bool enabled_;
+  bool tty_;
+  bool drawn_ = false;
+  int last_decile_ = 0;
+  Clock::time_point start_, last_;
+};
+
+// True when progress should be shown: not --quiet.
+inline bool progress_enabled(bool quiet) { return !quiet; }
+
+}  // namespace rheo::cli

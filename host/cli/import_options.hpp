@@ -1,0 +1,36 @@
+// The options `rheo fit` and `rheo diagnose` share for imported tables (--geometry,
+// --strain, --as), declared once so both commands say the same thing.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "host/identify/measurement.hpp"
+
+namespace rheo::cli {
+
+inline void add_import_options(CLI::App* cmd, std::string& geometry, std::string& strain,
+                               std::string& as) {
+  cmd->add_option("--geometry", geometry,
+                  "specimen HxWxD in mm (height x width x depth) assumed for imported tables "
+                  "(default 10x10x10); refused for a measurement CSV, which states its own");
+  cmd->add_option("--strain", strain,
+                  "step strain put on a relaxation-modulus table: a fraction (0.01) or a "
+                  "percentage (1%); default 1%; refused for step-strain exports (they have a "
+                  "strain column) and measurement CSVs");
+  cmd->add_option("--as", as,
+                  "confirm what a table without recognisable column names holds: "
+                  "relaxation_table (column 1 time [s], column 2 relaxation modulus [Pa])");
+}
+
+// Turns the option strings into import options; throws rheo::Error on a malformed value.
+inline identify::ImportOptions import_options(const std::string& geometry,
+                                              const std::string& strain, const std::string& as) {
+  identify::ImportOptions o;
+  if (!geometry.empty()) o.geometry = identify::parse_geometry(geometry);
+  if (!strain.empty()) o.strain = identify::parse_strain(strain);
+  o.as = as;
+  return o;
+}
+
+}  // namespace rheo::cli

@@ -1,0 +1,41 @@
+// `rheo synth` compares like with like and says what it cannot compute: a run with the MPM
+// alone has no lane fit, no core clock and no multiplier peak, and each 2003 figure stands
+// only beside the model size it was measured on.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/cli/run_rheo.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using rheo::testing_support::run_rheo;
+
+TEST(SynthCli, ASubsetOfDesignsWarnsForEveryFigureItCannotComputeAndComparesOnlyLikeSizes) {
+  const fs::path out = fs::temp_directory_path() / ("rheo_synth_cli_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const auto r = run_rheo("synth --designs mpm --no-reference-timing -q --out " + out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(out / "synth.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  fs::remove_all(out);
+
+  EXPECT_TRUE(j["fit"]["max_lanes_xc2v6000"].is_null()) << "no lane count without tem and mpm";
+  EXPECT_EQ(j["warnings"].size(), 3u) << j["warnings"].dump(2);
+  EXPECT_NE(r.output.find("warning: lanes that fit"), std::string::npos) << r.output;
+  EXPECT_TRUE(j["performance"]["peak_edge_updates_per_s"].is_null());
+  for (const auto& row : j["performance"]["scenarios"]) {
+    const std::string name = row["scenario"];
+    // The paper's PC ran 5x5x5, its FPGA 15x15x16.
+    EXPECT_EQ(row.contains("speedup_vs_paper_pc"), name == "block5") << name;
+    EXPECT_EQ(row.contains("speedup_vs_paper_fpga"), name == "block15") << name;
+    EXPECT_TRUE(row["fraction_of_multiplier_peak"].is_null()) << name;
+  }
+}
+
+}  // namespace
