@@ -236,8 +236,15 @@ void read_protocol(const Field& protocol, Scenario& s) {
   if (!protocol.value().is_object()) protocol.fail("an object");
   const std::string type = protocol["type"].one_of({"push_hold_release", "table"});
   const double height_mm = s.block.sz * 1e3;
+  if (protocol.has("plate_contact")) {
+    s.plate_contact = protocol["plate_contact"].one_of({"penetration", "hold_while_pushing"}) ==
+                              "penetration"
+                          ? PlateContact::kPenetration
+                          : PlateContact::kHoldWhilePushing;
+  }
   if (type == "push_hold_release") {
-    protocol.expect_object({"type", "depth_mm", "speed_mm_s", "hold_s", "after_s"});
+    protocol.expect_object(
+        {"type", "depth_mm", "speed_mm_s", "hold_s", "after_s", "plate_contact"});
     const Field depth = protocol["depth_mm"];
     const double depth_mm = depth.positive(" [mm]");
     if (depth_mm >= height_mm) {
@@ -248,7 +255,7 @@ void read_protocol(const Field& protocol, Scenario& s) {
         protocol["hold_s"].non_negative(" [s]"), protocol["after_s"].non_negative(" [s]"));
     return;
   }
-  protocol.expect_object({"type", "t_s", "plate_mm"});
+  protocol.expect_object({"type", "t_s", "plate_mm", "plate_contact"});
   const Field t_field = protocol["t_s"];
   const Field mm_field = protocol["plate_mm"];
   s.protocol.t = t_field.number_array("times [s]");
@@ -394,6 +401,7 @@ Model Scenario::build_model() const {
   // the weight of the object must stay physical: gravity is divided by the same factor,
   // so that m * g, and with it the load on the plate, is what the real object has.
   model.gravity /= block.mass_scale;
+  model.plate_contact = plate_contact;
   validate(model);
   return model;
 }

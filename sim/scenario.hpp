@@ -24,6 +24,7 @@ struct Scenario {
   BlockSpec block;         // mesh and material
   SimOptions options;      // dt, integrator
   PlateProtocol protocol;  // plate displacement history
+  PlateContact plate_contact = PlateContact::kPenetration;  // /protocol/plate_contact
   OutputSettings output;
   double duration_s = 0.0;  // default run length (protocol duration if 0)
 

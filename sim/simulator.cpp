@@ -199,6 +199,7 @@ Simulator::Simulator(Model model, SimOptions options)
     }
   }
   force_.resize(model_.num_particles());
+  held_.assign(model_.num_particles(), 0);
   ddot_.resize(model_.num_edges());
   mdot_.resize(model_.num_edges());
   length_.resize(model_.num_edges());
@@ -312,14 +313,25 @@ void Simulator::apply_contacts(int i, double z_start, double plate_z, double for
     x.z() = 0.0;
     v.z() = std::max(v.z(), 0.0);
   }
-  if (model_.flags[i] == kPlate && x.z() > plate_z) {
+  if (model_.flags[i] != kPlate) return;
+  const double plate_velocity = (plate_z - z_start) * (1.0 / options_.dt);
+  if (x.z() > plate_z) {
     x.z() = plate_z;
     // The held particle moves with the plate: its velocity must match its position
     // change, otherwise the edges never see the plate's strain rate (see simulator.hpp).
-    v.z() = std::min(v.z(), (plate_z - z_start) * (1.0 / options_.dt));
-    report->plate_force_N += force_z;
-    ++report->contacts;
+    v.z() = std::min(v.z(), plate_velocity);
+  } else if (held_[i] && force_z > 0.0 &&
+             model_.plate_contact == PlateContact::kHoldWhilePushing) {
+    // Still pushing the plate: it stays on it (see PlateContact in model.hpp).
+    x.z() = plate_z;
+    v.z() = plate_velocity;
+  } else {
+    held_[i] = 0;
+    return;
   }
+  held_[i] = 1;
+  report->plate_force_N += force_z;
+  ++report->contacts;
 }
 
 StepReport Simulator::step_sie(double plate_z) {

@@ -53,6 +53,10 @@ double max_stable_dt(const Model& model, Integrator integrator);
 //     v.z = min(v.z, (plate_z - z_start) / dt) with z_start its height at the start of the
 //     step: it is in contact and plate_force += F_i.z (internal force only; positive =
 //     pushes the plate up = compression). The plate is unilateral: it never pulls.
+//     With Model::plate_contact == kHoldWhilePushing, a plate particle held in the previous
+//     step is also held (x.z = plate_z, v.z = (plate_z - z_start)/dt, force reported) when
+//     its update would take it off the plate while its internal force still pushes the
+//     plate (F_i.z > 0); see PlateContact in model.hpp.
 //     Why (plate_z - z_start)/dt and not 0: a held particle moves with the plate, and the
 //     three-element edge feels a length change only through ldot (its force depends on l
 //     through ldot and the clamp alone). With v.z = min(v.z, 0) the plate would teleport
@@ -122,6 +126,7 @@ class Simulator {
   std::vector<Vec3> external_;
   std::vector<TopologyPair> topology_pairs_;
   std::vector<double> rest_volume_;  // signed rest area (2D) / volume (3D) per element
+  std::vector<std::uint8_t> held_;   // 1 where the plate held the particle in the last step
   long long steps_ = 0;
   // Scratch buffers reused every step (no allocation in the time loop).
   std::vector<Vec3> force_;

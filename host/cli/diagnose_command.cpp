@@ -22,6 +22,7 @@ void register_diagnose(CLI::App& app) {
     bool quiet = false;
     double max_dt = 0.1;
     std::string geometry, strain, as;
+    SpecimenArgs specimen;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -40,6 +41,7 @@ void register_diagnose(CLI::App& app) {
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
   add_max_dt_option(cmd, args->max_dt);
   add_import_options(cmd, args->geometry, args->strain, args->as);
+  add_specimen_options(cmd, args->specimen);
   cmd->callback([args]() {
     using namespace rheo::identify;
     const ImportOptions import = import_options(args->geometry, args->strain, args->as);
@@ -51,6 +53,7 @@ void register_diagnose(CLI::App& app) {
     output::StagedDirectory out(args->output.out, args->output.force);
     DiagnoseOptions options;
     options.fit.simulation.max_dt = args->max_dt;
+    apply_specimen_options(args->specimen, options.fit.simulation);
     Progress progress("model fits", 0, progress_enabled(args->quiet));
     options.on_model_fitted = [&progress](int done, int total) {
       progress.set_total(total);

@@ -21,6 +21,7 @@ void register_fit(CLI::App& app) {
     bool quiet = false;
     double max_dt = 0.1;
     std::string geometry, strain, as;
+    SpecimenArgs specimen;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -41,6 +42,7 @@ void register_fit(CLI::App& app) {
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
   add_max_dt_option(cmd, args->max_dt);
   add_import_options(cmd, args->geometry, args->strain, args->as);
+  add_specimen_options(cmd, args->specimen);
   cmd->callback([args]() {
     using namespace rheo::identify;
     const ImportOptions import = import_options(args->geometry, args->strain, args->as);
@@ -50,6 +52,7 @@ void register_fit(CLI::App& app) {
     output::StagedDirectory out(args->output.out, args->output.force);
     FitOptions options;
     options.simulation.max_dt = args->max_dt;
+    apply_specimen_options(args->specimen, options.simulation);
     // Fits have no fixed length: the display counts solver iterations against their limit.
     Progress progress("fit", 0, progress_enabled(args->quiet));
     options.progress = [&progress](const FitProgress& p) {

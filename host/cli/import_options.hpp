@@ -6,6 +6,7 @@
 #include <string>
 
 #include "host/identify/measurement.hpp"
+#include "host/identify/specimen.hpp"
 
 namespace rheo::cli {
 
@@ -31,6 +32,31 @@ inline identify::ImportOptions import_options(const std::string& geometry,
   if (!strain.empty()) o.strain = identify::parse_strain(strain);
   o.as = as;
   return o;
+}
+
+// Which specimen model fit and diagnose run (--model-form, --mesh).
+struct SpecimenArgs {
+  std::string form = "object";
+  std::string mesh = "2d:auto";
+};
+
+inline void add_specimen_options(CLI::App* cmd, SpecimenArgs& a) {
+  cmd->add_option("--model-form", a.form,
+                  "object: the project's particle model of the specimen run by the reference "
+                  "simulator (default); column: a 1-D two-particle column, a fast first guess "
+                  "that is not the object users simulate")
+      ->check(CLI::IsMember({"object", "column"}))
+      ->capture_default_str();
+  cmd->add_option("--mesh", a.mesh,
+                  "object model mesh: 2d:auto (3 layers, square cells), 2d:NXxNZ or "
+                  "3d:NXxNYxNZ, optionally :truss (docs/identify.md)")
+      ->capture_default_str();
+}
+
+// Applies the specimen options; throws rheo::Error on a malformed --mesh.
+inline void apply_specimen_options(const SpecimenArgs& a, identify::SimulationOptions& o) {
+  o.form = a.form == "column" ? identify::SpecimenForm::kColumn : identify::SpecimenForm::kObject;
+  o.mesh = identify::parse_object_mesh(a.mesh);
 }
 
 }  // namespace rheo::cli

@@ -155,6 +155,11 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped, bool
       m.c3 = 0.0;
     }
   }
+  if (hw.plate_contact != PlateContact::kPenetration) {
+    notes.push_back("plate contact hold_while_pushing (the core holds a particle only when it "
+                    "would pass the plate)");
+  }
+  hw.plate_contact = PlateContact::kPenetration;
   if (hw.topology.enabled) notes.push_back("topology-maintenance forces");
   if (hw.volume.enabled) notes.push_back("volume-preserving forces");
   hw.topology.enabled = false;

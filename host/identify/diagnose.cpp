@@ -1,7 +1,11 @@
 #include "host/identify/diagnose.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -269,6 +273,173 @@ std::string plot_commands(const std::string& dat, const std::string& png, const 
 
 }  // namespace
 
+namespace {
+
+// Sum of squares, count and lag-1 autocorrelation of the force residuals over files (pairs
+// taken within a file only).
+struct ResidualStats {
+  double rss = 0.0, n = 0.0, lag1 = 0.0;
+};
+ResidualStats residual_stats(const std::vector<Measurement>& data, const FitResult& f,
+                             const SimulationOptions& sim) {
+  ResidualStats st;
+  double cross = 0.0;
+  for (const Measurement& m : data) {
+    const std::vector<double> r = residuals(m, f, sim);
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      st.rss += r[i] * r[i];
+      if (i > 0) cross += r[i] * r[i - 1];
+    }
+    st.n += static_cast<double>(r.size());
+  }
+  st.lag1 = st.rss > 0.0 ? cross / st.rss : 0.0;
+  return st;
+}
+
+// Effective sample size of an AR(1)-like residual series.
+double n_effective(double n, double lag1) {
+  if (!(lag1 > 0.0)) return n;
+  return std::clamp(n * (1.0 - lag1) / (1.0 + lag1), 1.0, n);
+}
+
+// Why a fitted extension is physically implausible ("" when it is not): each cause's
+// parameters have a range outside which they describe something other than the cause.
+std::string implausible(const FitResult& f, const DataScales& s) {
+  const auto& v = f.values;
+  std::ostringstream why;
+  switch (f.spec.extension) {
+    case Extension::kNone:
+      break;
+    case Extension::kSecondRelaxationTime: {
+      const double tau1 = (v[1] + v[2]) / v[0], tau2 = v[4] / v[3];
+      const double ratio = std::max(tau1, tau2) / std::min(tau1, tau2);
+      if (ratio < 1.5) {
+        why << "the two relaxation times (" << fmt(tau1) << " s, " << fmt(tau2)
+            << " s) are within a factor 1.5 of each other: not a second time scale";
+      } else if (tau2 < 0.5 * s.min_gap_s || tau2 > 10.0 * s.duration_s) {
+        why << "the second relaxation time " << fmt(tau2)
+            << " s lies outside what the record resolves (" << fmt(0.5 * s.min_gap_s) << " to "
+            << fmt(10.0 * s.duration_s) << " s)";
+      }
+      break;
+    }
+    case Extension::kForceDependentDamping:
+      if (v[4] > 300.0) {
+        why << "damping ratio " << fmt(v[4])
+            << " above 300: the series damper all but switches off, a stand-in for another "
+               "effect";
+      }
+      break;
+    case Extension::kStrainHardening: {
+      const double stiffening = v[3] * s.peak_strain * s.peak_strain;
+      if (stiffening < 0.01) {
+        why << "hardening stiffens the spring by " << fmt(100.0 * stiffening)
+            << " % at the peak strain: no effect worth the name";
+      } else if (stiffening > 100.0) {
+        why << "hardening stiffens the spring " << fmt(stiffening)
+            << " times at the peak strain: not a material law";
+      }
+      break;
+    }
+    case Extension::kSensorLag:
+      if (v[3] > 1.0 || v[3] > 0.05 * s.duration_s) {
+        why << "a load-cell lag of " << fmt(v[3])
+            << " s: load cells and their amplifiers answer within milliseconds (a lag above 1 s "
+               "or 5 % of the record is a material time scale, not a sensor)";
+      }
+      break;
+    case Extension::kSensorOffset:
+      if (std::abs(v[3]) > 0.1 * s.peak_force_N) {
+        why << "an offset of " << fmt(v[3]) << " N is more than 10 % of the peak force "
+            << fmt(s.peak_force_N) << " N: not a tare error";
+      }
+      break;
+  }
+  return why.str();
+}
+
+CandidateJudgement judge(const CandidateFit& c, const ResidualStats& base_fit,
+                         const ResidualStats& base_holdout,
+                         const std::vector<Measurement>& fit_data,
+                         const std::vector<Measurement>& holdout, double noise_sigma,
+                         double n_fit, const DataScales& scales, const SimulationOptions& sim,
+                         const DiagnoseOptions& options) {
+  CandidateJudgement j;
+  const ResidualStats st = residual_stats(fit_data, c.fit, sim);
+  const double extra = static_cast<double>(c.fit.spec.params.size()) - 3.0;
+  j.lag1 = st.lag1;
+  j.n_effective = n_effective(n_fit, st.lag1);
+  j.delta_aic_effective = j.n_effective * std::log(base_fit.rss / st.rss) - 2.0 * extra;
+  const double excess = base_fit.rss - n_fit * noise_sigma * noise_sigma;
+  j.explained = excess > 0.0 ? (base_fit.rss - st.rss) / excess : 0.0;
+  if (!holdout.empty()) {
+    const ResidualStats h = residual_stats(holdout, c.fit, sim);
+    // A prediction: no parameter penalty, the held-out files fitted nothing.
+    j.holdout_delta_aic_effective = n_effective(h.n, h.lag1) * std::log(base_holdout.rss / h.rss);
+  }
+  std::ostringstream why;
+  if (excess <= 0.0) {
+    why << "the baseline already fits to the noise level";
+  } else if (j.delta_aic_effective < options.min_delta_aic) {
+    why << "effective AIC drop " << fmt(j.delta_aic_effective) << " below "
+        << fmt(options.min_delta_aic) << " (n_eff " << fmt(j.n_effective) << " of "
+        << fmt(n_fit) << " samples, residual lag-1 autocorrelation " << fmt(j.lag1) << ")";
+  } else if (j.explained < options.min_explained) {
+    why << "removes only " << fmt(100.0 * j.explained)
+        << " % of the baseline's misfit above the noise";
+  } else if (j.holdout_delta_aic_effective &&
+             *j.holdout_delta_aic_effective < options.min_delta_aic) {
+    why << "does not predict the held-out data better (effective AIC drop there "
+        << fmt(*j.holdout_delta_aic_effective) << ")";
+  } else {
+    for (const ParamEstimate& e : c.fit.estimates) {
+      if (!e.unidentifiable.empty()) {
+        why << "not identified: " << e.name << " " << e.unidentifiable;
+        break;
+      }
+    }
+    if (why.str().empty()) {
+      const std::string range = implausible(c.fit, scales);
+      if (!range.empty()) why << "not identified: " << range;
+    }
+  }
+  j.reason = why.str();
+  j.qualifies = j.reason.empty();
+  return j;
+}
+
+// What the extended model leaves unexplained, in words ("" when it fits to the noise).
+std::string remaining_misfit(const Diagnosis& d) {
+  if (!(d.misfit_over_noise > 2.0)) return "";
+  const PhaseResiduals* worst = nullptr;
+  for (const PhaseResiduals& p : d.phases) {
+    if (!worst || p.rms_extended > worst->rms_extended) worst = &p;
+  }
+  std::ostringstream s;
+  s << "The " << (d.chosen < 0 ? "baseline" : "extended model") << " still misfits: fit RMSE "
+    << fmt(d.misfit_over_noise) << " times the noise level";
+  if (worst) {
+    s << ", largest in the " << phase_name(worst->phase) << " phase (RMS " << fmt(worst->rms_extended)
+      << " N)";
+    switch (worst->phase) {
+      case Phase::kHold:
+        s << "; a relaxation broader than the catalogue's (several or a spectrum of relaxation "
+             "times) or an instrument transient at the start of the hold would show there";
+        break;
+      case Phase::kPush:
+        s << "; a rate or strain dependence the catalogue lacks would show there";
+        break;
+      default:
+        s << "; a recovery (elastic after-effect) the model does not have would show there";
+        break;
+    }
+  }
+  s << ".";
+  return s.str();
+}
+
+}  // namespace
+
 std::string phase_name(Phase p) {
   switch (p) {
     case Phase::kPush:
@@ -334,42 +505,71 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
   Diagnosis d;
   const SimulationOptions& sim = options.fit.simulation;
   const DataScales scales = data_scales(fit_data);
-  d.mesh = coarse_mesh_description(fit_data.front().geometry);
+  d.mesh = specimen_description(fit_data.front().geometry, sim);
   d.inputs = inputs_of(fit_data, holdout);
   d.noise_sigma_N = noise_from_second_differences(fit_data.front());
   d.baseline = fit_model(fit_data, model_spec(Extension::kNone, scales), {}, options.fit);
   d.baseline_rmse_holdout_N = holdout_rmse(holdout, d.baseline, sim);
   const int fits = 1 + static_cast<int>(all_extensions().size());
   if (options.on_model_fitted) options.on_model_fitted(1, fits);
-  for (Extension e : all_extensions()) {
-    const ModelSpec spec = model_spec(e, scales);
-    CandidateFit c;
-    c.fit =
-        fit_model(fit_data, spec, extension_starts(spec, d.baseline.values, scales), options.fit);
-    // A candidate contains the baseline: never report it worse than the baseline's optimum.
-    c.rmse_holdout_N = holdout_rmse(holdout, c.fit, sim);
-    d.candidates.push_back(c);
-    if (options.on_model_fitted) {
-      options.on_model_fitted(1 + static_cast<int>(d.candidates.size()), fits);
+  // The candidates are independent fits: they run on every core (each fit is one thread;
+  // the simulation and Ceres hold no shared state).
+  const std::vector<Extension>& extensions = all_extensions();
+  std::vector<std::optional<CandidateFit>> results(extensions.size());
+  std::vector<std::exception_ptr> errors(extensions.size());
+  std::atomic<std::size_t> next{0};
+  std::mutex report;
+  int done = 1;
+  auto worker = [&]() {
+    for (std::size_t i = next++; i < extensions.size(); i = next++) {
+      try {
+        const ModelSpec spec = model_spec(extensions[i], scales);
+        CandidateFit c;
+        c.fit = fit_model(fit_data, spec, extension_starts(spec, d.baseline.values, scales),
+                          options.fit);
+        c.rmse_holdout_N = holdout_rmse(holdout, c.fit, sim);
+        results[i] = std::move(c);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(report);
+      if (options.on_model_fitted) options.on_model_fitted(++done, fits);
+    }
+  };
+  const unsigned threads = std::clamp(std::thread::hardware_concurrency(), 1u,
+                                      static_cast<unsigned>(extensions.size()));
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  for (std::size_t i = 0; i < extensions.size(); ++i) {
+    if (errors[i]) std::rethrow_exception(errors[i]);
+    d.candidates.push_back(std::move(*results[i]));
+  }
+  // Selection (docs/identify.md): residuals of a misfitting model are autocorrelated, so the
+  // AIC drop counts the effective sample size, not the samples; the candidate must remove
+  // most of the misfit above the noise, have its parameters determined and inside their
+  // physical range, and, with held-out data, win there by the same rule (the judge).
+  double n_fit = 0.0;
+  for (const Measurement& m : fit_data) n_fit += static_cast<double>(m.size());
+  const ResidualStats base_fit = residual_stats(fit_data, d.baseline, sim);
+  const ResidualStats base_holdout = residual_stats(holdout, d.baseline, sim);
+  for (CandidateFit& c : d.candidates) {
+    c.judgement = judge(c, base_fit, base_holdout, fit_data, holdout, d.noise_sigma_N, n_fit,
+                        scales, sim, options);
+  }
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < d.candidates.size(); ++i) {
+    const CandidateJudgement& j = d.candidates[i].judgement;
+    if (!j.qualifies) continue;
+    const double score = j.holdout_delta_aic_effective.value_or(j.delta_aic_effective);
+    if (score > best) {
+      best = score;
+      d.chosen = static_cast<int>(i);
+      d.cause = d.candidates[i].fit.spec.extension;
     }
   }
-  // Pick: candidates in AIC order; the first that earns its parameters and, when held-out
-  // data exist, also predicts them better.
-  std::vector<int> order(d.candidates.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-  std::sort(order.begin(), order.end(),
-            [&](int a, int b) { return d.candidates[a].fit.aic < d.candidates[b].fit.aic; });
-  for (int i : order) {
-    const CandidateFit& c = d.candidates[i];
-    if (d.baseline.aic - c.fit.aic < options.min_delta_aic) break;
-    if (c.rmse_holdout_N && d.baseline_rmse_holdout_N &&
-        !(*d.baseline_rmse_holdout_N / *c.rmse_holdout_N > options.min_holdout_ratio)) {
-      continue;
-    }
-    d.chosen = i;
-    d.cause = c.fit.spec.extension;
-    break;
-  }
+
   // Residuals by phase on the first fit file.
   const Measurement& m = fit_data.front();
   const std::vector<Phase> ph = phases_of(m);
@@ -400,6 +600,9 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
     pr.mean_extended = se / pr.n;
     d.phases.push_back(pr);
   }
+  d.misfit_over_noise =
+      d.noise_sigma_N > 0.0 ? d.extended().rmse_force_N / d.noise_sigma_N : 0.0;
+  d.remaining = remaining_misfit(d);
   d.evidence = evidence_sentence(d, m, sim);
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return d;
@@ -653,7 +856,7 @@ void write_fit(const std::string& dir_name, const FitResult& f,
   write_text(dir / "plots.gp", gp.str());
   const bool plotted = run_gnuplot(dir, "plots.gp");
   nlohmann::json j = fit_json(f);
-  j["mesh"] = coarse_mesh_description(data.front().geometry);
+  j["mesh"] = specimen_description(data.front().geometry, options.simulation);
   j["assumptions"] = assumptions_json(inputs_of(data, {}));
   j["files"] = nlohmann::json::array();
   for (const auto& m : data) j["files"].push_back(m.source);

@@ -39,6 +39,9 @@ struct DiagnoseOptions {
   double min_delta_aic = 10.0;
   // The held-out RMSE must drop by at least this factor to confirm the pick.
   double min_holdout_ratio = 1.0;
+  // Smallest share of the baseline's misfit above the noise a named extension must remove:
+  // an extension that leaves most of the misfit is not the cause, whatever its AIC.
+  double min_explained = 0.5;
 };
 
 struct PhaseResiduals {
@@ -48,9 +51,26 @@ struct PhaseResiduals {
   double rms_extended = 0.0, mean_extended = 0.0;
 };
 
+// How a candidate fared against the selection rule (docs/identify.md, "Selection").
+struct CandidateJudgement {
+  double lag1 = 0.0;         // lag-1 autocorrelation of its fit residuals
+  double n_effective = 0.0;  // n (1 - lag1) / (1 + lag1), within [1, n]
+  // n_eff ln(RSS_baseline / RSS_candidate) - 2 (extra parameters): the AIC drop with the
+  // sample count of the residuals' information, not their number.
+  double delta_aic_effective = 0.0;
+  // Share of the baseline's misfit above the noise the candidate removes:
+  // (RSS_b - RSS_c) / (RSS_b - n sigma^2); 0 when the baseline is already at the noise.
+  double explained = 0.0;
+  // The same effective AIC drop on the held-out files (empty without held-out data).
+  std::optional<double> holdout_delta_aic_effective;
+  bool qualifies = false;
+  std::string reason;  // why it does not qualify ("" when it does)
+};
+
 struct CandidateFit {
   FitResult fit;
   std::optional<double> rmse_holdout_N;
+  CandidateJudgement judgement;
 };
 
 // What one input file was read as and assumed (fit.json and diagnosis.json
@@ -79,6 +99,9 @@ struct Diagnosis {
   std::string evidence;
   std::vector<PhaseResiduals> phases;  // on the (first) fit file
   double noise_sigma_N = 0.0;          // from second differences of the fit data
+  // Extended model's fit RMSE over the noise level, and what that leaves to say.
+  double misfit_over_noise = 0.0;
+  std::string remaining;
   std::string mesh;
   std::vector<InputFile> inputs;  // fit files, then held-out files
   double seconds = 0.0;           // wall time of the diagnosis

@@ -215,6 +215,7 @@ DataScales data_scales(const std::vector<Measurement>& data) {
     throw Error(data.front().source + ": force_N is zero everywhere, nothing to fit");
   }
   s.modulus_Pa = peak_stress / peak_strain;
+  s.peak_strain = peak_strain;
   return s;
 }
 
@@ -236,7 +237,9 @@ ModelSpec model_spec(Extension e, const DataScales& s) {
       break;
     case Extension::kForceDependentDamping:
       spec.params.push_back({"damping_stress_Pa", M * 1e-4, M * 1e2, true});
-      spec.params.push_back({"damping_ratio", 1.001, 1e4, true});
+      // Above 1000 the series damper all but switches off: a stand-in for another effect
+      // (diagnose calls it implausible), and a stiff explicit edge update.
+      spec.params.push_back({"damping_ratio", 1.001, 1e3, true});
       break;
     case Extension::kStrainHardening:
       spec.params.push_back({"hardening", 1e-4, 1e4, true});
@@ -393,7 +396,7 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
     std::vector<double> x(k);
     for (std::size_t i = 0; i < k; ++i) x[i] = clamp_into(spec.params[i], start[i]);
     ceres::Problem problem;
-    auto* cost = new ceres::DynamicNumericDiffCostFunction<ColumnResiduals, ceres::CENTRAL>(
+    auto* cost = new ceres::DynamicNumericDiffCostFunction<ColumnResiduals, ceres::FORWARD>(
         new ColumnResiduals{&data, &spec, &options});
     cost->AddParameterBlock(static_cast<int>(k));
     cost->SetNumResiduals(n_res);

@@ -35,6 +35,7 @@ struct DataScales {
   double duration_s = 1.0;
   double min_gap_s = 1.0;  // shortest sample spacing
   double peak_force_N = 1.0;
+  double peak_strain = 0.0;  // largest plate_mm / height
 };
 DataScales data_scales(const std::vector<Measurement>& data);
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "host/identify/object_specimen.hpp"
 #include "sim/edge_kernel.hpp"
 #include "sim/error.hpp"
 
@@ -201,6 +202,98 @@ std::string coarse_mesh_description(const Geometry& g) {
   return s.str();
 }
 
+std::string specimen_form_name(SpecimenForm f) {
+  return f == SpecimenForm::kObject ? "object" : "column";
+}
+
+ObjectMesh ObjectMesh::resolved(const Geometry& g) const {
+  if (nx > 0) return *this;
+  ObjectMesh m = *this;
+  const double columns = std::round((nz - 1) * g.width_mm / g.height_mm);
+  m.nx = static_cast<int>(std::clamp(columns, 1.0, 11.0)) + 1;
+  return m;
+}
+
+ObjectMesh ObjectMesh::finer() const {
+  ObjectMesh m = *this;
+  ++m.nx;
+  ++m.nz;
+  if (dim == 3) ++m.ny;
+  return m;
+}
+
+std::string ObjectMesh::text() const {
+  std::ostringstream s;
+  if (nx == 0) return std::to_string(dim) + "d:auto";
+  s << dim << "d:" << nx << "x";
+  if (dim == 3) s << ny << "x";
+  s << nz;
+  if (truss) s << ":truss";
+  return s.str();
+}
+
+ObjectMesh parse_object_mesh(const std::string& text) {
+  const std::string expected =
+      "--mesh '" + text +
+      "': expected 2d:auto, 2d:NXxNZ or 3d:NXxNYxNZ, optionally followed by :truss, with 2 to 12 "
+      "particles per axis (e.g. 2d:3x3, 3d:3x2x3)";
+  ObjectMesh m;
+  std::string rest = text;
+  const auto colon = rest.find(':');
+  if (colon == std::string::npos) throw Error(expected);
+  const std::string dim = rest.substr(0, colon);
+  if (dim != "2d" && dim != "3d") throw Error(expected);
+  m.dim = dim == "2d" ? 2 : 3;
+  rest = rest.substr(colon + 1);
+  if (rest == "auto" && m.dim == 2) return m;
+  const auto tail = rest.find(':');
+  if (tail != std::string::npos) {
+    if (rest.substr(tail + 1) != "truss") throw Error(expected);
+    m.truss = true;
+    rest = rest.substr(0, tail);
+  }
+  std::vector<int> counts;
+  std::size_t pos = 0;
+  while (pos <= rest.size()) {
+    const auto x = rest.find('x', pos);
+    const std::string part = rest.substr(pos, x == std::string::npos ? std::string::npos : x - pos);
+    if (part.empty() || part.size() > 2 ||
+        part.find_first_not_of("0123456789") != std::string::npos) {
+      throw Error(expected);
+    }
+    counts.push_back(std::stoi(part));
+    if (x == std::string::npos) break;
+    pos = x + 1;
+  }
+  if (counts.size() != static_cast<std::size_t>(m.dim)) throw Error(expected);
+  for (int c : counts) {
+    if (c < 2 || c > 12) throw Error(expected);
+  }
+  m.nx = counts.front();
+  m.nz = counts.back();
+  if (m.dim == 3) m.ny = counts[1];
+  return m;
+}
+
+std::string specimen_description(const Geometry& g, const SimulationOptions& o) {
+  if (o.form == SpecimenForm::kColumn) {
+    return "first guess (not the object model): " + coarse_mesh_description(g);
+  }
+  const ObjectMesh m = o.mesh.resolved(g);
+  std::ostringstream s;
+  s << "object model: " << m.dim << "-D " << (m.truss ? "truss" : "lattice") << " of " << m.nx
+    << " x ";
+  if (m.dim == 3) s << m.ny << " x ";
+  s << m.nz << " particles (--mesh " << m.text() << ") over the specimen " << g.width_mm
+    << " mm wide, " << g.height_mm << " mm high" << (m.dim == 3 ? ", " : " and ") << g.depth_mm
+    << " mm " << (m.dim == 3 ? "deep" : "thick (plane model)")
+    << "; bottom layer fixed, top layer under the plate (held while it pushes), reference "
+       "simulator, semi-implicit Euler with "
+    << o.steps_per_sample
+    << " steps per sample interval and numerical masses (docs/identify.md), no gravity";
+  return s.str();
+}
+
 Prediction simulate(const Measurement& protocol, const SpecimenParams& p,
                     const SimulationOptions& options) {
   check_positive(p.E1, "E1");
@@ -208,6 +301,17 @@ Prediction simulate(const Measurement& protocol, const SpecimenParams& p,
   check_positive(p.c2, "c2");
   if (p.hardening < 0.0) throw Error("specimen model: hardening < 0, expected >= 0");
   if (p.lag_s < 0.0) throw Error("specimen model: lag_s < 0, expected >= 0");
+  if (!(options.steps_per_sample >= 1)) {
+    throw Error("specimen model: steps_per_sample must be at least 1");
+  }
+  if (options.form == SpecimenForm::kObject) {
+    if (!(std::isfinite(options.max_dt) && options.max_dt > 0.0) ||
+        !(std::isfinite(options.steps_per_time_constant) &&
+          options.steps_per_time_constant > 0.0)) {
+      throw Error("specimen model: max_dt and steps_per_time_constant must be finite and > 0");
+    }
+    return simulate_object(protocol, p, options);
+  }
   // A NaN here would reach an int conversion of the step count below (undefined behaviour):
   // options are checked where they enter, whoever set them.
   if (!(std::isfinite(options.max_dt) && options.max_dt > 0.0)) {

@@ -59,10 +59,42 @@ struct SpecimenParams {
 Model coarse_model(const Geometry& g, const SpecimenParams& p);
 std::string coarse_mesh_description(const Geometry& g);
 
+// Which model of the specimen a fit runs.
+//  - kObject (the default): the project's particle model of the specimen (sim/mesh.hpp
+//    lattice or truss built from the file's geometry) run by the reference rheo::Simulator:
+//    the object the users simulate, see object_specimen.hpp.
+//  - kColumn: the 1-D column above, a fast first guess (quasi-static, one edge).
+enum class SpecimenForm { kObject, kColumn };
+std::string specimen_form_name(SpecimenForm f);  // "object" or "column"
+
+// Mesh of the object model: particles per axis (ny ignored in 2-D), lattice or truss.
+// nx = 0 (the default, "2d:auto") takes nz = 3 layers and as many columns as keep the cells
+// square: nx = round((nz - 1) width / height) + 1, within 2..12. The default is 2-D because
+// the three-element lattice in 3-D loses its shape under a long hold when one cell spans the
+// thickness (the force collapses; docs/identify.md, known limits).
+struct ObjectMesh {
+  int dim = 2;
+  int nx = 0, ny = 2, nz = 3;
+  bool truss = false;
+  ObjectMesh resolved(const Geometry& g) const;  // nx = 0 replaced as described
+  // Next finer mesh (one more particle along each axis), for the mesh-convergence check.
+  ObjectMesh finer() const;
+  std::string text() const;  // "2d:3x3", "3d:3x2x3" (the --mesh syntax)
+};
+// Parses "2d:auto", "2d:NXxNZ" or "3d:NXxNYxNZ" (optionally ":truss"); throws rheo::Error naming the
+// option and the expected form.
+ObjectMesh parse_object_mesh(const std::string& text);
+
 struct SimulationOptions {
+  SpecimenForm form = SpecimenForm::kObject;
+  ObjectMesh mesh;
+  // Object model: explicit steps per sample interval (the inertia of the scaled masses
+  // then fades within a small fraction of a sample, see object_specimen.hpp).
+  int steps_per_sample = 10;
   double max_dt = 0.1;                  // [s] upper bound of the time step
   double steps_per_time_constant = 10;  // accuracy: dt <= shortest relaxation time / this
-  long max_steps = 20000;               // cap on the total steps (dt grows instead)
+  long max_steps = 20000;               // column: cap on the total steps (dt grows instead)
+  long max_object_steps = 2000000;      // object: cap on the total steps (refused above)
 };
 
 struct Prediction {
@@ -71,7 +103,10 @@ struct Prediction {
   std::vector<bool> contact;       // plate touching the top at each sample time
 };
 
-// Runs the column under the measurement's plate history (linear between samples; the
+// What the fits run, in words (report, fit.json): the object mesh or the column.
+std::string specimen_description(const Geometry& g, const SimulationOptions& o);
+
+// Runs the specimen model (options.form) under the measurement's plate history (linear between samples; the
 // plate starts at 0 at t = 0 and moves linearly to the first sample when t[0] > 0) and
 // returns the predicted readings at the sample times. Throws rheo::Error on non-finite
 // state (numerical trouble) or non-positive parameters.

@@ -13,6 +13,12 @@ namespace rheo::identify {
 namespace {
 
 const std::string kShared = RHEO_SHARED_DIR;
+// The outside data sets live beside the checkout, never in it: without them these tests
+// have nothing to read and say so instead of failing.
+#define SKIP_WITHOUT_SHARED_DATA()                                                   \
+  if (!std::filesystem::exists(kShared + "/data/real")) {                            \
+    GTEST_SKIP() << kShared << "/data/real is not beside this checkout";            \
+  }
 // Values are written with 10 significant digits.
 constexpr double kRoundTripTol = 1e-9;
 
@@ -129,6 +135,7 @@ void expect_refusal(const std::string& msg, const std::string& where, const std:
 }
 
 TEST(RelaxationImport, FishMuscleTableBecomesAStepStrainExperimentWithStatedAssumptions) {
+  SKIP_WITHOUT_SHARED_DATA();
   const Measurement m = load_any(kShared + "/data/real/fish_muscle_relaxation.tsv");
   ASSERT_EQ(m.size(), 566u);
   EXPECT_DOUBLE_EQ(m.time_s[0], 0.0139);
@@ -188,6 +195,7 @@ TEST(RelaxationImport, NonNumericRowNamesLineAndField) {
 }
 
 TEST(RheometerImport, Utf16ExportWithDecimalCommasIsRead) {
+  SKIP_WITHOUT_SHARED_DATA();
   const Measurement m = load_any(kShared + "/data/real/cnf_hydrogel_relaxation_rep2.csv");
   ASSERT_GT(m.size(), 250u);
   EXPECT_DOUBLE_EQ(m.time_s[0], 0.010);
@@ -374,6 +382,7 @@ TEST(ImportOptions, GeometryAndStrainTextsAreParsedOrRefused) {
 }
 
 TEST(LoadAny, PicksTheImporterByContent) {
+  SKIP_WITHOUT_SHARED_DATA();
   EXPECT_EQ(load_any(temp_file("any.csv", kGood)).size(), 3u);
   EXPECT_GT(load_any(kShared + "/data/real/cnf_hydrogel_relaxation_rep3.csv").size(), 250u);
   EXPECT_EQ(load_any(kShared + "/data/real/fish_muscle_relaxation.tsv").size(), 566u);

@@ -1,0 +1,202 @@
+#include "host/identify/object_specimen.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "sim/error.hpp"
+#include "sim/mesh.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo::identify {
+namespace {
+
+// Share of the explicit stability bound the chosen masses use (the bound itself carries a
+// factor 0.9; strain hardening stiffens the edges beyond what the bound sees).
+constexpr double kMassSafety = 0.6;
+// Largest refinement of the sample-based step for short relaxation times (see
+// object_time_step): 8 = 16 steps per shortest relaxation time at 20 steps per sample.
+constexpr double kMaxHalvings = 8.0;
+
+// Shortest material time constant of the parameters [s] (the explicit update of the edge
+// states d and m must resolve it).
+double shortest_time_constant(const SpecimenParams& p) {
+  const double c2_min = p.damping_ratio > 1.0 ? p.c2 / p.damping_ratio : p.c2;
+  double tau = (p.c1 + c2_min) / p.E1;
+  if (p.E2 > 0.0 && p.c3 > 0.0) tau = std::min(tau, p.c3 / p.E2);
+  return tau;
+}
+
+// Plate displacement [m] at time t: linear between samples, from 0 at t = 0 to the first
+// sample, held after the last.
+class PlateHistory {
+ public:
+  explicit PlateHistory(const Measurement& m) : m_(m) {}
+  double at(double t) {
+    const auto& ts = m_.time_s;
+    while (next_ < ts.size() && ts[next_] < t) ++next_;
+    if (next_ >= ts.size()) return m_.plate_mm.back() * 1e-3;
+    const double t1 = ts[next_], p1 = m_.plate_mm[next_] * 1e-3;
+    const double t0 = next_ == 0 ? 0.0 : ts[next_ - 1];
+    const double p0 = next_ == 0 ? 0.0 : m_.plate_mm[next_ - 1] * 1e-3;
+    if (!(t1 > t0)) return p1;
+    return p0 + (p1 - p0) * (t - t0) / (t1 - t0);
+  }
+
+ private:
+  const Measurement& m_;
+  std::size_t next_ = 0;
+};
+
+}  // namespace
+
+Model object_model(const Geometry& g, const SpecimenParams& p, const ObjectMesh& mesh_in,
+                   double dt) {
+  const ObjectMesh mesh = mesh_in.resolved(g);
+  BlockSpec b;
+  b.dim = mesh.dim;
+  b.nx = mesh.nx;
+  b.ny = mesh.ny;
+  b.nz = mesh.nz;
+  b.sx = g.width_mm * 1e-3;
+  b.sy = g.depth_mm * 1e-3;
+  b.sz = g.height_m();
+  b.structure = mesh.truss ? Structure::kTruss : Structure::kLattice;
+  EdgeMaterial& mat = b.material;
+  mat.k1 = p.E1;
+  mat.c1 = p.c1;
+  mat.c2 = p.c2;
+  mat.a_min = 0.0;
+  mat.a_max = 1e30;
+  if (p.E2 > 0.0 && p.c3 > 0.0) {
+    mat.k2 = p.E2;
+    mat.c3 = p.c3;
+  }
+  if (p.damping_ratio > 1.0 && p.damping_stress > 0.0) {
+    mat.nonlinear = true;
+    mat.f1 = 0.0;
+    mat.f2 = p.damping_stress;  // a stress: make_block turns it into an edge force
+    mat.c2_min = p.c2 / p.damping_ratio;
+  }
+  mat.hardening = p.hardening;
+  Model model = make_block(b);
+  model.gravity = Vec3::Zero();
+  model.plate_contact = PlateContact::kHoldWhilePushing;
+
+  // Masses for a stable step dt (see object_specimen.hpp): per particle the stiffness and
+  // the largest instantaneous damping of its edges, as rheo::max_stable_dt sums them.
+  const int n = model.num_particles();
+  std::vector<double> stiffness(n, 0.0), damping(n, 0.0);
+  for (const Edge& e : model.edges) {
+    const EdgeMaterial& m = model.materials[e.material];
+    const double k = m.k1 + (m.has_maxwell_arm() ? m.k2 : 0.0);
+    const double c = m.c1 * m.c2 / (m.c1 + m.c2);
+    for (int i : {e.s, e.e}) {
+      stiffness[i] += k;
+      damping[i] += c;
+    }
+  }
+  // Stable when dt^2 a + 2 dt b < 4 with a = 2K/m, b = 2C/m (simulator.hpp).
+  for (int i = 0; i < n; ++i) {
+    const double m = (0.5 * stiffness[i] * dt * dt + damping[i] * dt) / kMassSafety;
+    model.mass[i] = m > 0.0 ? m : 1.0;
+  }
+  model.mass_scale = 1.0;
+  return model;
+}
+
+double object_time_step(const Measurement& protocol, const SpecimenParams& p,
+                        const SimulationOptions& o) {
+  double gap = protocol.time_s.front() > 0.0 ? protocol.time_s.front()
+                                             : std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i < protocol.size(); ++i) {
+    gap = std::min(gap, protocol.time_s[i] - protocol.time_s[i - 1]);
+  }
+  if (!std::isfinite(gap)) gap = protocol.time_s.back();
+  double dt = std::min({gap / o.steps_per_sample, o.max_dt,
+                        shortest_time_constant(p) / o.steps_per_time_constant});
+  // Rounded down to a power of two times the sample-based step, so that small parameter
+  // changes during a fit do not change the step count (a jump in the objective).
+  const double base = std::min(gap / o.steps_per_sample, o.max_dt);
+  if (dt < base) dt = base * std::exp2(std::floor(std::log2(dt / base)));
+  // A relaxation time below a sixteenth of the sample interval is not resolved by the record
+  // (it shows as an instantaneous response), and the explicit edge update would need ever
+  // smaller steps for it: such parameters are refused, and a fit steps back from them.
+  if (dt < base / kMaxHalvings) {
+    std::ostringstream msg;
+    msg << "object model: shortest relaxation time " << shortest_time_constant(p)
+        << " s is far below the sample interval " << gap
+        << " s (the record cannot resolve it; the model would need steps below " << dt << " s)";
+    throw Error(msg.str());
+  }
+  return dt;
+}
+
+Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
+                           const SimulationOptions& o) {
+  const double dt = object_time_step(protocol, p, o);
+  const double duration = protocol.time_s.back();
+  const double steps_needed = std::ceil(duration / dt);
+  if (!(steps_needed <= static_cast<double>(o.max_object_steps))) {
+    std::ostringstream msg;
+    msg << "object model: " << steps_needed << " steps of " << dt << " s for " << duration
+        << " s of record exceed the limit of " << o.max_object_steps
+        << " (relaxation time " << shortest_time_constant(p)
+        << " s is too short for the record; the column model (--model-form column) has no "
+           "such limit)";
+    throw Error(msg.str());
+  }
+  SimOptions so;
+  so.dt = dt;
+  Simulator sim(object_model(protocol.geometry, p, o.mesh, dt), so);
+  const Model& model = sim.model();
+  std::vector<int> top;
+  for (int i = 0; i < model.num_particles(); ++i) {
+    if (model.flags[i] == kPlate) top.push_back(i);
+  }
+  const double h = model.height;
+
+  Prediction out;
+  const std::size_t n = protocol.size();
+  out.force_N.resize(n);
+  out.surface_mm.resize(n);
+  out.contact.resize(n);
+  PlateHistory plate(protocol);
+  const double lag_factor = p.lag_s > 0.0 ? 1.0 - std::exp(-dt / p.lag_s) : 1.0;
+  double sensor = 0.0, sensor_prev = 0.0;
+  double surface = 0.0, surface_prev = 0.0;
+  bool contact = false;
+  double t = 0.0;
+  std::size_t next = 0;
+  // Samples at t <= 0 read the unloaded specimen.
+  while (next < n && protocol.time_s[next] <= 0.0) {
+    out.force_N[next] = p.offset_N;
+    out.surface_mm[next] = 0.0;
+    out.contact[next] = false;
+    ++next;
+  }
+  while (next < n) {
+    const double t_next = t + dt;
+    const StepReport r = sim.step(h - plate.at(t_next));
+    sensor_prev = sensor;
+    surface_prev = surface;
+    sensor += (r.plate_force_N - sensor) * lag_factor;
+    double z = 0.0;
+    for (int i : top) z += sim.state().x[i].z();
+    surface = (h - z / static_cast<double>(top.size())) * 1e3;
+    contact = r.contacts > 0;
+    // Samples between the last step and this one: linear in time between the two.
+    while (next < n && protocol.time_s[next] <= t_next + 1e-12 * dt) {
+      const double w = std::clamp((protocol.time_s[next] - t) / dt, 0.0, 1.0);
+      out.force_N[next] = sensor_prev + w * (sensor - sensor_prev) + p.offset_N;
+      out.surface_mm[next] = surface_prev + w * (surface - surface_prev);
+      out.contact[next] = contact;
+      ++next;
+    }
+    t = t_next;
+  }
+  return out;
+}
+
+}  // namespace rheo::identify
