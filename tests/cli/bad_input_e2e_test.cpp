@@ -87,7 +87,7 @@ TEST_F(BadInputTest, OutNamingAnExistingFileIsRefusedByEveryCommand) {
 TEST_F(BadInputTest, MeasurementFileWithANonUtf8NameGetsItsReport) {
   const std::string name = path("clay\xff.csv");
   fs::copy_file(data(), name);
-  const RunResult r = run_rheo("fit '" + name + "' -q --out " + out());
+  const RunResult r = run_rheo("fit '" + name + "' --model-form column -q --out " + out());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(root_ / "out" / "fit.json"));
 }
@@ -149,7 +149,8 @@ TEST_F(BadInputTest, Utf8ByteOrderMarkIsReadAsText) {
   std::ifstream in(data());
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const RunResult r =
-      run_rheo("fit " + write("bom.csv", "\xEF\xBB\xBF" + text) + " -q --out " + out());
+      run_rheo("fit " + write("bom.csv", "\xEF\xBB\xBF" + text) + " --model-form column -q --out " +
+               out());
   EXPECT_EQ(r.status, 0) << r.output;
 }
 

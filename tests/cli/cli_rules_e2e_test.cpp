@@ -37,7 +37,9 @@ class CliRulesTest : public testing::Test {
 
 // Every command that writes a results directory, with arguments that would make it run.
 std::vector<std::string> commands_with_out() {
-  const std::string data = std::string(RHEO_SOURCE_DIR) + "/data/clay_fast.csv";
+  // The column model (the fast first guess): these tests are about the command line rules.
+  const std::string data =
+      std::string(RHEO_SOURCE_DIR) + "/data/clay_fast.csv --model-form column";
   std::vector<std::string> commands = {"simulate --scenario block5 --steps 5 --quiet",
                                        "fit " + data + " --quiet", "diagnose " + data + " --quiet",
                                        "fixed --scenario block5 --steps 5 --no-sweep --quiet",
@@ -141,7 +143,8 @@ TEST_F(CliRulesTest, LongRunsShowProgressWithAnEtaAndDefaultStepsCoverTheProtoco
     EXPECT_EQ(j["steps"].get<long long>(), kProtocolSteps);
     fs::remove_all(dir);
   }
-  const std::string data = std::string(RHEO_SOURCE_DIR) + "/data/clay_fast.csv";
+  const std::string data =
+      std::string(RHEO_SOURCE_DIR) + "/data/clay_fast.csv --model-form column";
   const auto diagnose = run_rheo("diagnose " + data + " --out " + (root_ / "d").string());
   ASSERT_EQ(diagnose.status, 0) << diagnose.output;
   EXPECT_NE(diagnose.output.find("model fits"), std::string::npos) << diagnose.output;

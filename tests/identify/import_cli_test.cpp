@@ -127,7 +127,9 @@ TEST_F(ImportCli, UnidentifiableParametersAreWarnedAboutAndListed) {
     const double t = 440.0 + i;
     s << t << "," << 1e-3 * t << "," << 0.02 + 1e-5 * ((i * 7) % 5 - 2) / 2.0 << ",\n";
   }
-  const RunResult r = run_rheo("fit " + file("steady.csv", s.str()) + " --out " + out());
+  // The argument above is the column's (one edge, no lateral flow): fit the column.
+  const RunResult r =
+      run_rheo("fit " + file("steady.csv", s.str()) + " --model-form column --out " + out());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("warning: three_element: E1_Pa"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("warning: three_element: c1_Pa_s"), std::string::npos) << r.output;

@@ -10,6 +10,7 @@
 #include "host/identify/diagnose.hpp"
 #include "host/identify/object_specimen.hpp"
 #include "host/identify/virtual_clay.hpp"
+#include "sim/error.hpp"
 
 namespace rheo::identify {
 namespace {

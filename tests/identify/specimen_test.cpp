@@ -12,6 +12,15 @@
 namespace rheo::identify {
 namespace {
 
+// These tests are about the 1-D column (the first guess); the object model has its own
+// (object_model_test.cpp).
+SimulationOptions column_options() {
+  SimulationOptions o;
+  o.form = SpecimenForm::kColumn;
+  return o;
+}
+const SimulationOptions kColumn = column_options();
+
 // Trapezoidal rule with at least 10 steps per time constant: local error ~ (dt/tau)^3/12.
 constexpr double kRelaxationRelTol = 2e-3;
 // A 10 ms strain ramp instead of an ideal step shifts the two-arm response by ~0.1 %.
@@ -36,7 +45,7 @@ TEST(SpecimenModel, HeldStrainRelaxesWithTimeConstantC1PlusC2OverE1) {
   p.c2 = 2e5;  // tau = 5 s
   const double tau = (p.c1 + p.c2) / p.E1;
   const Measurement m = step_then_hold(1.0, 0.5, {0.5, 1.0, 2.0, 4.0, 8.0, 12.0});
-  const Prediction pr = simulate(m, p);
+  const Prediction pr = simulate(m, p, kColumn);
   for (std::size_t i = 2; i < m.size(); ++i) {
     const double expected = pr.force_N[1] * std::exp(-(m.time_s[i] - m.time_s[1]) / tau);
     EXPECT_NEAR(pr.force_N[i], expected, kRelaxationRelTol * pr.force_N[1])
@@ -54,7 +63,7 @@ TEST(SpecimenModel, ClayParametersRelaxWithTheTwoExponentialsOfSeed002ModelB) {
   const double ramp = 0.01;
   Measurement m = step_then_hold(0.1, ramp, {0.01, 1.0, 3.0, 10.0, 30.0, 100.0});
   m.geometry = Geometry{12.5, 80.0, 80.0};
-  const Prediction pr = simulate(m, p);
+  const Prediction pr = simulate(m, p, kColumn);
   const double strain = 0.1 / 12.5;
   for (std::size_t i = 1; i < m.size(); ++i) {
     const double t = m.time_s[i] - ramp / 2;
@@ -80,7 +89,7 @@ TEST(SpecimenModel, ReleasedColumnLosesContactReadsZeroAndKeepsAResidualDeformat
     m.force_N.push_back(0.0);
     m.surface_mm.push_back(std::numeric_limits<double>::quiet_NaN());
   }
-  const Prediction pr = simulate(m, p);
+  const Prediction pr = simulate(m, p, kColumn);
   EXPECT_TRUE(pr.contact[100]);
   EXPECT_GT(pr.force_N[100], 0.0);
   EXPECT_FALSE(pr.contact.back());
@@ -96,7 +105,7 @@ TEST(SpecimenModel, NonPositiveViscosityIsRefusedWithItsName) {
   p.c2 = 5e5;
   const Measurement m = step_then_hold(1.0, 0.5, {0.5, 1.0, 2.0});
   try {
-    simulate(m, p);
+    simulate(m, p, kColumn);
     FAIL() << "expected rheo::Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("c1"), std::string::npos);
@@ -124,7 +133,7 @@ TEST(SpecimenModel, AgreesWithTheReferenceSimulatorOnTheSameCoarseModel) {
     m.force_N.push_back(0.0);
     m.surface_mm.push_back(std::numeric_limits<double>::quiet_NaN());
   }
-  const Prediction pr = simulate(m, p);
+  const Prediction pr = simulate(m, p, kColumn);
 
   Model model = coarse_model(m.geometry, p);
   model.mass = {1e-2, 1e-2};
