@@ -68,6 +68,7 @@ void register_diagnose(CLI::App& app) {
               << "evidence: " << d.evidence << "\n"
               << "gain: holdout_rmse_ratio " << j["gain"]["holdout_rmse_ratio"].dump()
               << ", delta_aic " << j["gain"]["delta_aic"].dump() << "\n"
+              << (d.remaining.empty() ? std::string() : "remaining: " + d.remaining + "\n")
               << unidentifiable_warnings(d.baseline)
               << (d.chosen < 0 ? std::string() : unidentifiable_warnings(d.extended()))
               << "diagnosis took " << d.seconds << " s; wrote " << out.target()

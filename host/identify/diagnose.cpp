@@ -196,16 +196,17 @@ std::string evidence_sentence(const Diagnosis& d, const Measurement& m,
           best = static_cast<int>(i);
         }
       }
-      s << "No candidate earns its extra parameters: the baseline fit RMSE is "
-        << d.baseline.rmse_force_N << " N against a noise level of " << sigma << " N";
+      s << "No candidate is named: the baseline fit RMSE is " << d.baseline.rmse_force_N
+        << " N against a noise level of " << sigma << " N";
       if (best >= 0) {
         const auto& c = d.candidates[best];
-        s << ", and the best candidate (" << cause_name(c.fit.spec.extension) << ") lowers AIC by "
-          << d.baseline.aic - c.fit.aic << " (at least " << 10 << " needed)";
+        s << "; the lowest-AIC candidate (" << cause_name(c.fit.spec.extension) << ", AIC drop "
+          << d.baseline.aic - c.fit.aic;
         if (c.rmse_holdout_N && d.baseline_rmse_holdout_N) {
-          s << " with held-out RMSE " << *c.rmse_holdout_N << " N vs " << *d.baseline_rmse_holdout_N
+          s << ", held-out RMSE " << *c.rmse_holdout_N << " N vs " << *d.baseline_rmse_holdout_N
             << " N";
         }
+        s << ") is not named: " << c.judgement.reason;
       }
       s << ".";
       return s.str();
@@ -685,11 +686,27 @@ nlohmann::json diagnosis_json(const Diagnosis& d) {
     ratio = *d.baseline_rmse_holdout_N / *d.extended_holdout();
   }
   j["gain"] = {{"holdout_rmse_ratio", ratio}, {"delta_aic", d.baseline.aic - ext.aic}};
+  if (d.chosen >= 0) {
+    const CandidateJudgement& cj = d.candidates[d.chosen].judgement;
+    j["gain"]["delta_aic_effective"] = cj.delta_aic_effective;
+    j["gain"]["explained_fraction"] = cj.explained;
+  }
+  j["finding"]["misfit_over_noise"] = d.misfit_over_noise;
+  j["finding"]["remaining"] = d.remaining;
+  j["finding"]["specimen_model"] = d.mesh;
   j["candidates"] = json::array();
   for (const auto& c : d.candidates) {
+    const CandidateJudgement& cj = c.judgement;
     j["candidates"].push_back({{"cause", cause_name(c.fit.spec.extension)},
                                {"aic", c.fit.aic},
-                               {"rmse_holdout_N", opt(c.rmse_holdout_N)}});
+                               {"rmse_holdout_N", opt(c.rmse_holdout_N)},
+                               {"residual_lag1", cj.lag1},
+                               {"n_effective", cj.n_effective},
+                               {"delta_aic_effective", cj.delta_aic_effective},
+                               {"explained_fraction", cj.explained},
+                               {"holdout_delta_aic_effective", opt(cj.holdout_delta_aic_effective)},
+                               {"qualifies", cj.qualifies},
+                               {"not_named_because", cj.reason}});
   }
   j["assumptions"] = assumptions_json(d.inputs);
   return j;
@@ -806,17 +823,29 @@ void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
   r << "\nGain: held-out RMSE ratio " << j["gain"]["holdout_rmse_ratio"].dump() << ", AIC drop "
     << j["gain"]["delta_aic"].dump()
     << ". Noise level from second differences of the fit data: " << d.noise_sigma_N << " N.\n\n";
-  r << "## Candidates\n\nSelection: lowest AIC (Gaussian likelihood, noise level estimated, "
-       "n ln(RSS/n) + 2(k+1)) among candidates that lower AIC by at least "
+  if (!d.remaining.empty()) r << "**What is left.** " << d.remaining << "\n\n";
+  r << "## Candidates\n\nSelection (docs/identify.md): a candidate qualifies when its effective "
+       "AIC drop n_eff ln(RSS_b/RSS_c) - 2 (extra parameters), n_eff = n (1 - r1)/(1 + r1) from "
+       "the lag-1 autocorrelation r1 of its residuals, is at least "
+    << options.min_delta_aic << ", it removes at least " << 100.0 * options.min_explained
+    << " % of the baseline's misfit above the noise, every parameter is determined and inside "
+       "its cause's physical range, and, with held-out data, its effective drop there is at "
+       "least "
     << options.min_delta_aic
-    << " and, with held-out data, also lower the held-out RMSE.\n\n"
-       "| cause | AIC | AIC drop | fit RMSE [N] | held-out RMSE [N] | extra parameters |\n"
-       "|---|---|---|---|---|---|\n";
+    << " too; the named cause is the qualifying candidate with the largest held-out (else fit) "
+       "drop.\n\n"
+       "| cause | AIC drop | effective drop | explained | held-out RMSE [N] | held-out effective "
+       "drop | extra parameters | named? |\n"
+       "|---|---|---|---|---|---|---|---|\n";
   for (const auto& c : d.candidates) {
-    r << "| " << cause_name(c.fit.spec.extension) << " | " << c.fit.aic << " | "
-      << d.baseline.aic - c.fit.aic << " | " << c.fit.rmse_force_N << " | "
+    const CandidateJudgement& cj = c.judgement;
+    r << "| " << cause_name(c.fit.spec.extension) << " | " << fmt(d.baseline.aic - c.fit.aic)
+      << " | " << fmt(cj.delta_aic_effective) << " | " << fmt(100.0 * cj.explained) << " % | "
       << (c.rmse_holdout_N ? fmt(*c.rmse_holdout_N, 4) : std::string("-")) << " | "
-      << param_list(c.fit, 3) << " |\n";
+      << (cj.holdout_delta_aic_effective ? fmt(*cj.holdout_delta_aic_effective)
+                                         : std::string("-"))
+      << " | " << param_list(c.fit, 3) << " | " << (cj.qualifies ? "qualifies" : cj.reason)
+      << " |\n";
   }
   r << "\n## Residuals by phase (first fit file, measured - model)\n\n" << phase_table(d);
   r << "\n## Parameters\n\n| model | parameter | value | 95 % interval | identifiable |\n"
