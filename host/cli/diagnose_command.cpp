@@ -11,6 +11,7 @@
 #include "host/identify/diagnose.hpp"
 #include "host/identify/measurement.hpp"
 #include "host/output/staged_directory.hpp"
+#include "sim/error.hpp"
 
 namespace rheo::cli {
 
@@ -59,7 +60,20 @@ void register_diagnose(CLI::App& app) {
       progress.set_total(total);
       progress.update(done);
     };
-    const Diagnosis d = diagnose(fit_data, holdout, options);
+    Diagnosis d;
+    try {
+      d = diagnose(fit_data, holdout, options);
+    } catch (const rheo::Error& e) {
+      // The explicit object model cannot run every record (a relaxation much faster than a
+      // long record needs too many steps): say so and give the column's first guess rather
+      // than nothing. The specimen model is named in every output.
+      if (options.fit.simulation.form != SpecimenForm::kObject) throw;
+      std::cerr << "warning: the object model could not fit these data (" << e.what()
+                << "); diagnosing with the 1-D column first guess instead "
+                   "(--model-form column)\n";
+      options.fit.simulation.form = SpecimenForm::kColumn;
+      d = diagnose(fit_data, holdout, options);
+    }
     progress.finish();
     write_diagnosis(out.path(), d, fit_data, holdout, options);
     out.commit();

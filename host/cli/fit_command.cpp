@@ -10,6 +10,7 @@
 #include "host/identify/fit.hpp"
 #include "host/identify/measurement.hpp"
 #include "host/output/staged_directory.hpp"
+#include "sim/error.hpp"
 
 namespace rheo::cli {
 
@@ -26,9 +27,10 @@ void register_fit(CLI::App& app) {
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "fit",
-      "Fit the specimen model (the reference edge kernel on a coarse column of the specimen, "
-      "driven by each file's plate_mm history) to force_N (and surface_mm where present) with "
-      "Ceres; writes DIR/fit.json (values, 95 % intervals, bound and identifiability flags, "
+      "Fit the object model of the specimen (the project's particle model built from the "
+      "file's geometry, run by the reference simulator under each file's plate_mm history; "
+      "--model-form column for the fast 1-D first guess) to force_N (and surface_mm where "
+      "present) with Ceres; writes DIR/fit.json (values, 95 % intervals, bound and identifiability flags, "
       "assumptions) and DIR/fit_*.png.\n"
       "Files: measurement CSV, relaxation-modulus tables, rheometer step-strain exports; the "
       "test type is recognised from the column names and units, flow curves, frequency sweeps "
@@ -61,7 +63,17 @@ void register_fit(CLI::App& app) {
                      " of at most " + std::to_string(p.max_iterations));
     };
     const ModelSpec spec = model_spec(extension_from_name(args->model), data_scales(data));
-    const FitResult r = fit_model(data, spec, {}, options);
+    FitResult r;
+    try {
+      r = fit_model(data, spec, {}, options);
+    } catch (const rheo::Error& e) {
+      // As in diagnose: the column's first guess, said out loud, rather than nothing.
+      if (options.simulation.form != SpecimenForm::kObject) throw;
+      std::cerr << "warning: the object model could not fit these data (" << e.what()
+                << "); fitting the 1-D column first guess instead (--model-form column)\n";
+      options.simulation.form = SpecimenForm::kColumn;
+      r = fit_model(data, spec, {}, options);
+    }
     progress.finish();
     write_fit(out.path(), r, data, options);
     out.commit();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "sim/error.hpp"
@@ -108,49 +109,71 @@ Model object_model(const Geometry& g, const SpecimenParams& p, const ObjectMesh&
 
 double object_time_step(const Measurement& protocol, const SpecimenParams& p,
                         const SimulationOptions& o) {
-  double gap = protocol.time_s.front() > 0.0 ? protocol.time_s.front()
-                                             : std::numeric_limits<double>::infinity();
-  for (std::size_t i = 1; i < protocol.size(); ++i) {
-    gap = std::min(gap, protocol.time_s[i] - protocol.time_s[i - 1]);
+  return step_plan(protocol, p, o).smallest;
+}
+
+StepPlan step_plan(const Measurement& protocol, const SpecimenParams& p,
+                   const SimulationOptions& o) {
+  StepPlan plan;
+  const std::size_t n = protocol.size();
+  std::vector<double> wanted(n);
+  double base = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double gap = protocol.time_s[i] - (i == 0 ? 0.0 : protocol.time_s[i - 1]);
+    wanted[i] = gap > 0.0 ? std::min(gap / o.steps_per_sample, o.max_dt) : o.max_dt;
+    base = std::min(base, wanted[i]);
   }
-  if (!std::isfinite(gap)) gap = protocol.time_s.back();
-  double dt = std::min({gap / o.steps_per_sample, o.max_dt,
-                        shortest_time_constant(p) / o.steps_per_time_constant});
-  // Rounded down to a power of two times the sample-based step, so that small parameter
-  // changes during a fit do not change the step count (a jump in the objective).
-  const double base = std::min(gap / o.steps_per_sample, o.max_dt);
-  if (dt < base) dt = base * std::exp2(std::floor(std::log2(dt / base)));
+  const double tau = shortest_time_constant(p);
+  const double dt_tau = tau / o.steps_per_time_constant;
   // A relaxation time below a sixteenth of the sample interval is not resolved by the record
   // (it shows as an instantaneous response), and the explicit edge update would need ever
   // smaller steps for it: such parameters are refused, and a fit steps back from them.
-  if (dt < base / kMaxHalvings) {
+  if (dt_tau < base / kMaxHalvings) {
     std::ostringstream msg;
-    msg << "object model: shortest relaxation time " << shortest_time_constant(p)
-        << " s is far below the sample interval " << gap
-        << " s (the record cannot resolve it; the model would need steps below " << dt << " s)";
+    msg << "object model: shortest relaxation time " << tau
+        << " s is far below the shortest sample interval (the record cannot resolve it; the "
+           "model would need steps below "
+        << dt_tau << " s)";
     throw Error(msg.str());
   }
-  return dt;
+  // Steps are powers of two times the smallest: a small parameter change during a fit does
+  // not change the step count (a jump in the objective), and a record sampled ever more
+  // sparsely (a relaxation table on a log time axis) changes its step only a few times.
+  plan.dt.resize(n);
+  plan.smallest = std::numeric_limits<double>::infinity();
+  double t = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dt = std::min(wanted[i], dt_tau);
+    plan.dt[i] = base * std::exp2(std::floor(std::log2(dt / base) + 1e-12));
+    plan.smallest = std::min(plan.smallest, plan.dt[i]);
+    plan.steps += std::ceil((protocol.time_s[i] - t) / plan.dt[i]);
+    t = protocol.time_s[i];
+  }
+  return plan;
 }
 
 Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
                            const SimulationOptions& o) {
-  const double dt = object_time_step(protocol, p, o);
-  const double duration = protocol.time_s.back();
-  const double steps_needed = std::ceil(duration / dt);
-  if (!(steps_needed <= static_cast<double>(o.max_object_steps))) {
+  const StepPlan plan = step_plan(protocol, p, o);
+  if (!(plan.steps <= static_cast<double>(o.max_object_steps))) {
     std::ostringstream msg;
-    msg << "object model: " << steps_needed << " steps of " << dt << " s for " << duration
-        << " s of record exceed the limit of " << o.max_object_steps
-        << " (relaxation time " << shortest_time_constant(p)
-        << " s is too short for the record; the column model (--model-form column) has no "
-           "such limit)";
+    msg << "object model: " << plan.steps << " steps (smallest " << plan.smallest << " s) for "
+        << protocol.time_s.back() << " s of record exceed the limit of " << o.max_object_steps
+        << " (the column model, --model-form column, has no such limit)";
     throw Error(msg.str());
   }
-  SimOptions so;
-  so.dt = dt;
-  Simulator sim(object_model(protocol.geometry, p, o.mesh, dt), so);
-  const Model& model = sim.model();
+  // The masses belong to the step (see object_specimen.hpp): when the step changes, the
+  // simulation continues from the same state with the masses of the new step.
+  std::unique_ptr<Simulator> sim;
+  auto start = [&](double dt) {
+    SimOptions so;
+    so.dt = dt;
+    auto next = std::make_unique<Simulator>(object_model(protocol.geometry, p, o.mesh, dt), so);
+    if (sim) next->mutable_state() = sim->state();
+    sim = std::move(next);
+  };
+  start(plan.dt.front());
+  const Model& model = sim->model();
   std::vector<int> top;
   for (int i = 0; i < model.num_particles(); ++i) {
     if (model.flags[i] == kPlate) top.push_back(i);
@@ -163,7 +186,6 @@ Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
   out.surface_mm.resize(n);
   out.contact.resize(n);
   PlateHistory plate(protocol);
-  const double lag_factor = p.lag_s > 0.0 ? 1.0 - std::exp(-dt / p.lag_s) : 1.0;
   double sensor = 0.0, sensor_prev = 0.0;
   double surface = 0.0, surface_prev = 0.0;
   bool contact = false;
@@ -177,17 +199,19 @@ Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
     ++next;
   }
   while (next < n) {
+    const double dt = plan.dt[next];
+    if (dt != sim->options().dt) start(dt);
     const double t_next = t + dt;
-    const StepReport r = sim.step(h - plate.at(t_next));
+    const StepReport r = sim->step(h - plate.at(t_next));
     sensor_prev = sensor;
     surface_prev = surface;
-    sensor += (r.plate_force_N - sensor) * lag_factor;
+    sensor += (r.plate_force_N - sensor) * (p.lag_s > 0.0 ? 1.0 - std::exp(-dt / p.lag_s) : 1.0);
     double z = 0.0;
-    for (int i : top) z += sim.state().x[i].z();
+    for (int i : top) z += sim->state().x[i].z();
     surface = (h - z / static_cast<double>(top.size())) * 1e3;
     contact = r.contacts > 0;
     // Samples between the last step and this one: linear in time between the two.
-    while (next < n && protocol.time_s[next] <= t_next + 1e-12 * dt) {
+    while (next < n && protocol.time_s[next] <= t_next + 1e-9 * dt) {
       const double w = std::clamp((protocol.time_s[next] - t) / dt, 0.0, 1.0);
       out.force_N[next] = sensor_prev + w * (sensor - sensor_prev) + p.offset_N;
       out.surface_mm[next] = surface_prev + w * (surface - surface_prev);

@@ -15,7 +15,9 @@
 // the smallest mass for which the semi-implicit Euler step dt is stable by the bound of
 // rheo::max_stable_dt (its stiffness K_i and damping C_i: m_i = (K_i dt^2 / 2 + C_i dt) / s,
 // s = 0.6), so its velocity relaxes within about one step, and the velocity diffuses through
-// the nz layers in a few times nz^2 steps. dt is the sample interval divided by
+// the nz layers in a few times nz^2 steps. The masses follow the step: where the samples grow
+// sparse (log-spaced relaxation tables) the step grows with them and the simulation continues
+// from the same state with the new step's masses. dt is the sample interval divided by
 // steps_per_sample (and at most 1/10 of the shortest relaxation time): with the default of
 // 10, inertia has faded within the first steps after a sample (measured: the forces of 10
 // and 160 steps per sample differ by 1 % in the first sample of a push, 0.03 % later). The plate holds a particle while the
@@ -32,9 +34,19 @@ namespace rheo::identify {
 // The object model with these parameters and masses for time step dt.
 Model object_model(const Geometry& g, const SpecimenParams& p, const ObjectMesh& mesh, double dt);
 
-// The time step the object model takes for this protocol and these parameters.
+// The time steps the object model takes for this protocol and these parameters: per sample
+// interval, the interval / steps_per_sample (at most max_dt and 1/steps_per_time_constant of
+// the shortest relaxation time), rounded down to a power of two times the smallest. Throws
+// rheo::Error when the shortest relaxation time is far below the shortest sample interval.
+struct StepPlan {
+  std::vector<double> dt;  // step used up to each sample [s]
+  double smallest = 0.0;   // [s]
+  double steps = 0.0;      // total steps over the record
+};
+StepPlan step_plan(const Measurement& protocol, const SpecimenParams& p,
+                   const SimulationOptions& options);
 double object_time_step(const Measurement& protocol, const SpecimenParams& p,
-                        const SimulationOptions& options);
+                        const SimulationOptions& options);  // step_plan(...).smallest
 
 Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
                            const SimulationOptions& options);
