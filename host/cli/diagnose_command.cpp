@@ -82,6 +82,10 @@ void register_diagnose(CLI::App& app) {
               << "evidence: " << d.evidence << "\n"
               << "gain: holdout_rmse_ratio " << j["gain"]["holdout_rmse_ratio"].dump()
               << ", delta_aic " << j["gain"]["delta_aic"].dump() << "\n"
+              << (d.mesh_change ? "mesh check: force changes by " +
+                                      std::to_string(100.0 * *d.mesh_change) + " % on " +
+                                      d.finer_mesh + "\n"
+                                : std::string())
               << (d.remaining.empty() ? std::string() : "remaining: " + d.remaining + "\n")
               << unidentifiable_warnings(d.baseline)
               << (d.chosen < 0 ? std::string() : unidentifiable_warnings(d.extended()))

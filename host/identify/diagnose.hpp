@@ -102,6 +102,10 @@ struct Diagnosis {
   // Extended model's fit RMSE over the noise level, and what that leaves to say.
   double misfit_over_noise = 0.0;
   std::string remaining;
+  // Object model: RMS change of the extended model's force on the first fit file when the
+  // mesh is refined by one particle per axis, relative to the RMS force (empty for the column).
+  std::optional<double> mesh_change;
+  std::string finer_mesh;
   std::string mesh;
   std::vector<InputFile> inputs;  // fit files, then held-out files
   double seconds = 0.0;           // wall time of the diagnosis
