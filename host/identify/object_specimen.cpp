@@ -107,11 +107,6 @@ Model object_model(const Geometry& g, const SpecimenParams& p, const ObjectMesh&
   return model;
 }
 
-double object_time_step(const Measurement& protocol, const SpecimenParams& p,
-                        const SimulationOptions& o) {
-  return step_plan(protocol, p, o).smallest;
-}
-
 StepPlan step_plan(const Measurement& protocol, const SpecimenParams& p,
                    const SimulationOptions& o) {
   StepPlan plan;

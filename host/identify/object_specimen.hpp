@@ -45,8 +45,6 @@ struct StepPlan {
 };
 StepPlan step_plan(const Measurement& protocol, const SpecimenParams& p,
                    const SimulationOptions& options);
-double object_time_step(const Measurement& protocol, const SpecimenParams& p,
-                        const SimulationOptions& options);  // step_plan(...).smallest
 
 Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
                            const SimulationOptions& options);
