@@ -17,7 +17,7 @@ namespace {
 // factor 0.9; strain hardening stiffens the edges beyond what the bound sees).
 constexpr double kMassSafety = 0.6;
 // Largest refinement of the sample-based step for short relaxation times (see
-// object_time_step): 8 = 16 steps per shortest relaxation time at 20 steps per sample.
+// step_plan): a relaxation time needs at least steps_per_time_constant steps.
 constexpr double kMaxHalvings = 8.0;
 
 // Shortest material time constant of the parameters [s] (the explicit update of the edge
