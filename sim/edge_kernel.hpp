@@ -16,9 +16,15 @@
 //     particles, with its own state m (the arm spring's extension). It adds a second
 //     relaxation time c3/k2 (four-element / generalised Maxwell, seed 002):
 //       mdot = ldot - (k2/c3) m,  T += k2 * m.
+//   - a relaxation spectrum: up to kMaxSpectrumArms further parallel Maxwell arms
+//     (k_j, c_j), each with its own extension state s_j, the same law as the first arm:
+//       sdot_j = ldot - (k_j/c_j) s_j,  T += k_j * s_j.
+//     A set of arms with log-spaced relaxation times stands for a broad, power-law-like
+//     relaxation (a fractional element realised as a Prony series, docs/model.md).
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace rheo {
@@ -42,7 +48,18 @@ struct EdgeMaterial {
   double k2 = 0.0;       // [N/m]
   double c3 = 0.0;       // [N s/m]
 
+  // Relaxation spectrum: further Maxwell arms (spring k [N/m], damper c [N s/m]); the
+  // first spectrum_arms entries are used.
+  struct Arm {
+    double k = 0.0;
+    double c = 0.0;
+  };
+  static constexpr int kMaxSpectrumArms = 8;
+  int spectrum_arms = 0;
+  std::array<Arm, kMaxSpectrumArms> spectrum{};
+
   bool has_maxwell_arm() const { return k2 > 0.0 && c3 > 0.0; }
+  bool has_spectrum() const { return spectrum_arms > 0; }
 };
 
 // Result of evaluating one edge: the tension and the rates of its internal states.
@@ -52,6 +69,7 @@ struct EdgeEval {
   T ddot;      // rate of the Voigt length d
   T mdot;      // rate of the Maxwell-arm extension m (0 without the arm)
   T length;    // current edge length l
+  T ldot;      // current stretching rate
 };
 
 // Series-damper viscosity for a given Voigt spring force magnitude f (seed 000 §3.3).
@@ -70,9 +88,12 @@ T series_viscosity(const EdgeMaterial& m, const T& f) {
 // Evaluates one edge. xs, xe, vs, ve are 3-vectors (Eigen or any type with
 // operator[] and size 3); d is the Voigt length, L its natural length, l0 the rest
 // length of the whole edge (for strain hardening), mx the Maxwell-arm extension.
+// With a relaxation spectrum, spectrum_s points at the material's spectrum_arms extension
+// states and spectrum_sdot receives their rates (both may be null without a spectrum).
 template <typename T, typename V>
 EdgeEval<T> evaluate_edge(const EdgeMaterial& m, const V& xs, const V& xe, const V& vs,
-                          const V& ve, const T& d, double L, double l0, const T& mx) {
+                          const V& ve, const T& d, double L, double l0, const T& mx,
+                          const T* spectrum_s = nullptr, T* spectrum_sdot = nullptr) {
   using std::sqrt;
   T r[3], dv[3];
   for (int i = 0; i < 3; ++i) {
@@ -96,7 +117,14 @@ EdgeEval<T> evaluate_edge(const EdgeMaterial& m, const V& xs, const V& xe, const
     tension = tension + T(m.k2) * mx;
     mdot = ldot - T(m.k2 / m.c3) * mx;
   }
-  return {tension, ddot, mdot, l};
+  if (spectrum_s != nullptr) {
+    for (int j = 0; j < m.spectrum_arms; ++j) {
+      const EdgeMaterial::Arm& a = m.spectrum[j];
+      tension = tension + T(a.k) * spectrum_s[j];
+      spectrum_sdot[j] = ldot - T(a.k / a.c) * spectrum_s[j];
+    }
+  }
+  return {tension, ddot, mdot, l, ldot};
 }
 
 // Length-ratio clamp of the updated Voigt length (seed 000, eq. 8).

@@ -151,6 +151,10 @@ Model make_block(const BlockSpec& spec) {
   m.c2_min *= per_modulus;
   m.k2 *= per_modulus;
   m.c3 *= per_modulus;
+  for (int j = 0; j < m.spectrum_arms; ++j) {
+    m.spectrum[j].k *= per_modulus;
+    m.spectrum[j].c *= per_modulus;
+  }
   m.f1 *= per_stress;
   m.f2 *= per_stress;
   model.materials.push_back(m);

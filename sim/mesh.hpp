@@ -20,7 +20,7 @@ enum class Structure {
 // L = l0 = its initial length, d = L.
 //
 // Material mapping (BlockSpec.material holds moduli):
-//   k1, k2 [Pa], c1, c2, c2_min, c3 [Pa s]  ->  edge value = modulus * a,
+//   k1, k2, spectrum k [Pa], c1, c2, c2_min, c3, spectrum c [Pa s]  ->  edge value = modulus * a,
 //     3D: a = 6 V / sum_e l_e^2,   2D: a = 3 A sy / sum_e l_e^2  (sy = depth),
 //   the factor that makes the energy of an affinely strained central-force network equal
 //   to that of an isotropic continuum with Young's modulus E (Poisson 1/4; 1/3 in 2D).

@@ -1,5 +1,6 @@
 #include "sim/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -8,6 +9,12 @@
 
 namespace rheo {
 
+int spectrum_stride(const Model& model) {
+  int stride = 0;
+  for (const EdgeMaterial& m : model.materials) stride = std::max(stride, m.spectrum_arms);
+  return stride;
+}
+
 State initial_state(const Model& model) {
   State s;
   s.x = model.x0;
@@ -15,6 +22,7 @@ State initial_state(const Model& model) {
   s.d.resize(model.edges.size());
   for (std::size_t k = 0; k < model.edges.size(); ++k) s.d[k] = model.edges[k].L;
   s.m.assign(model.edges.size(), 0.0);
+  s.spectrum.assign(model.edges.size() * static_cast<std::size_t>(spectrum_stride(model)), 0.0);
   s.t = 0.0;
   return s;
 }
@@ -65,6 +73,15 @@ void validate_material(const EdgeMaterial& m, int index) {
   require_non_negative(where, "hardening", m.hardening);
   require_non_negative(where, "k2", m.k2);
   require_non_negative(where, "c3", m.c3);
+  if (m.spectrum_arms < 0 || m.spectrum_arms > EdgeMaterial::kMaxSpectrumArms) {
+    fail(where, "spectrum_arms", m.spectrum_arms,
+         "0.." + std::to_string(EdgeMaterial::kMaxSpectrumArms));
+  }
+  for (int j = 0; j < m.spectrum_arms; ++j) {
+    const std::string arm = "spectrum[" + std::to_string(j) + "]";
+    require_positive(where, (arm + ".k").c_str(), m.spectrum[j].k);
+    require_positive(where, (arm + ".c").c_str(), m.spectrum[j].c);
+  }
 }
 
 }  // namespace

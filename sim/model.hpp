@@ -91,16 +91,21 @@ struct Model {
 };
 
 // Dynamic state: particle positions/velocities, per-edge Voigt length d and
-// Maxwell-arm extension m (zero when no arm).
+// Maxwell-arm extension m (zero when no arm), and the extensions of the relaxation-spectrum
+// arms: spectrum_stride(model) values per edge, edge after edge (empty without a spectrum).
 struct State {
   std::vector<Vec3> x;
   std::vector<Vec3> v;
   std::vector<double> d;
   std::vector<double> m;
+  std::vector<double> spectrum;
   double t = 0.0;
 };
 
-// Initial state: particles at rest at x0, d = L, m = 0.
+// Spectrum states per edge: the largest spectrum_arms of the model's materials (0 = none).
+int spectrum_stride(const Model& model);
+
+// Initial state: particles at rest at x0, d = L, m = 0, spectrum extensions 0.
 State initial_state(const Model& model);
 
 // Throws rheo::Error naming the offending particle/edge/material and what was expected

@@ -106,6 +106,10 @@ double max_stable_dt(const Model& model, Integrator integrator) {
       k += m.k2;
       bound = std::min(bound, relax_radius * m.c3 / m.k2);
     }
+    for (int j = 0; j < m.spectrum_arms; ++j) {
+      k += m.spectrum[j].k;
+      bound = std::min(bound, relax_radius * m.spectrum[j].c / m.spectrum[j].k);
+    }
     // c2 is the largest series viscosity (c_max of the nonlinear damper); c1 c2/(c1+c2)
     // grows with c2, so this is the largest instantaneous damping of the edge.
     const double c = m.c1 * m.c2 / (m.c1 + m.c2);
@@ -203,6 +207,7 @@ Simulator::Simulator(Model model, SimOptions options)
   ddot_.resize(model_.num_edges());
   mdot_.resize(model_.num_edges());
   length_.resize(model_.num_edges());
+  spectrum_stride_ = spectrum_stride(model_);
 }
 
 void Simulator::set_external_force(std::vector<Vec3> force) {
@@ -216,16 +221,20 @@ void Simulator::set_external_force(std::vector<Vec3> force) {
 
 void Simulator::internal_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
                                 std::vector<double>& mdot) const {
-  compute_forces(s, f, ddot, mdot, nullptr);
+  std::vector<double> sdot;
+  compute_forces(s, f, ddot, mdot, sdot, nullptr);
 }
 
 void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
-                               std::vector<double>& mdot, std::vector<double>* lengths) const {
+                               std::vector<double>& mdot, std::vector<double>& sdot,
+                               std::vector<double>* lengths) const {
   const int n = model_.num_particles();
   const int ne = model_.num_edges();
+  const int stride = spectrum_stride_;
   f.assign(n, Vec3::Zero());
   ddot.resize(ne);
   mdot.resize(ne);
+  sdot.resize(static_cast<std::size_t>(ne) * stride);
   if (lengths) lengths->resize(ne);
   const Edge* edges = model_.edges.data();
   const EdgeMaterial* materials = model_.materials.data();
@@ -234,8 +243,10 @@ void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector
   Vec3* force = f.data();
   for (int k = 0; k < ne; ++k) {
     const Edge& e = edges[k];
-    const EdgeEval<double> r = evaluate_edge<double>(materials[e.material], x[e.s], x[e.e], v[e.s],
-                                                     v[e.e], s.d[k], e.L, e.l0, s.m[k]);
+    const std::size_t arms = static_cast<std::size_t>(k) * stride;
+    const EdgeEval<double> r = evaluate_edge<double>(
+        materials[e.material], x[e.s], x[e.e], v[e.s], v[e.e], s.d[k], e.L, e.l0, s.m[k],
+        stride > 0 ? s.spectrum.data() + arms : nullptr, stride > 0 ? sdot.data() + arms : nullptr);
     const Vec3 pull = (r.tension / r.length) * (x[e.e] - x[e.s]);
     force[e.s] += pull;
     force[e.e] -= pull;
@@ -335,7 +346,7 @@ void Simulator::apply_contacts(int i, double z_start, double plate_z, double for
 }
 
 StepReport Simulator::step_sie(double plate_z) {
-  compute_forces(state_, force_, ddot_, mdot_, &length_);
+  compute_forces(state_, force_, ddot_, mdot_, sdot_, &length_);
   const double dt = options_.dt;
   const Vec3 g = model_.gravity;
   const bool external = !external_.empty();
@@ -368,6 +379,9 @@ StepReport Simulator::step_sie(double plate_z) {
   if (any_arm) {
     for (int k = 0; k < ne; ++k) state_.m[k] += dt * mdot_[k];
   }
+  // Arms a material does not use keep rate and state 0 (evaluate_edge leaves their rates
+  // as compute_forces sized them: zero).
+  for (std::size_t j = 0; j < sdot_.size(); ++j) state_.spectrum[j] += dt * sdot_[j];
   return report;
 }
 
@@ -379,6 +393,7 @@ StepReport Simulator::step_rk4(double plate_z) {
   stage_f_.resize(4);
   stage_ddot_.resize(4);
   stage_mdot_.resize(4);
+  stage_sdot_.resize(4);
   // Acceleration of particle i in stage j (zero for fixed particles).
   auto accel = [&](int j, int i) -> Vec3 {
     if (is_fixed(model_.flags[i])) return Vec3::Zero();
@@ -390,7 +405,8 @@ StepReport Simulator::step_rk4(double plate_z) {
     return is_fixed(model_.flags[i]) ? Vec3::Zero() : Vec3(stage_[j].v[i]);
   };
   stage_[0] = state_;
-  compute_forces(stage_[0], stage_f_[0], stage_ddot_[0], stage_mdot_[0], &length_);
+  compute_forces(stage_[0], stage_f_[0], stage_ddot_[0], stage_mdot_[0], stage_sdot_[0],
+                 &length_);
   const double factor[3] = {0.5 * dt, 0.5 * dt, dt};
   for (int j = 1; j < 4; ++j) {
     State& sj = stage_[j];
@@ -404,7 +420,10 @@ StepReport Simulator::step_rk4(double plate_z) {
       sj.d[k] += h * stage_ddot_[j - 1][k];
       sj.m[k] += h * stage_mdot_[j - 1][k];
     }
-    compute_forces(sj, stage_f_[j], stage_ddot_[j], stage_mdot_[j], nullptr);
+    for (std::size_t a = 0; a < sj.spectrum.size(); ++a) {
+      sj.spectrum[a] += h * stage_sdot_[j - 1][a];
+    }
+    compute_forces(sj, stage_f_[j], stage_ddot_[j], stage_mdot_[j], stage_sdot_[j], nullptr);
   }
   const double w = dt / 6.0;
   StepReport report;
@@ -431,6 +450,10 @@ StepReport Simulator::step_rk4(double plate_z) {
     state_.m[k] += w * (stage_mdot_[0][k] + 2.0 * stage_mdot_[1][k] + 2.0 * stage_mdot_[2][k] +
                         stage_mdot_[3][k]);
   }
+  for (std::size_t a = 0; a < state_.spectrum.size(); ++a) {
+    state_.spectrum[a] += w * (stage_sdot_[0][a] + 2.0 * stage_sdot_[1][a] +
+                               2.0 * stage_sdot_[2][a] + stage_sdot_[3][a]);
+  }
   return report;
 }
 
@@ -449,6 +472,12 @@ void Simulator::check_finite() const {
     if (!std::isfinite(state_.d[k])) fail("Voigt length d of edge " + std::to_string(k));
     if (!std::isfinite(state_.m[k])) fail("Maxwell-arm extension of edge " + std::to_string(k));
   }
+  for (std::size_t a = 0; a < state_.spectrum.size(); ++a) {
+    if (!std::isfinite(state_.spectrum[a])) {
+      fail("spectrum-arm extension " + std::to_string(a % spectrum_stride_) + " of edge " +
+           std::to_string(a / spectrum_stride_));
+    }
+  }
 }
 
 double Simulator::energy() const {
@@ -464,6 +493,10 @@ double Simulator::energy() const {
     const double stretch = state_.d[k] - edge.L;
     e += 0.5 * m.k1 * stretch * stretch;
     if (m.has_maxwell_arm()) e += 0.5 * m.k2 * state_.m[k] * state_.m[k];
+    for (int j = 0; j < m.spectrum_arms; ++j) {
+      const double sj = state_.spectrum[static_cast<std::size_t>(k) * spectrum_stride_ + j];
+      e += 0.5 * m.spectrum[j].k * sj * sj;
+    }
   }
   if (model_.volume.enabled) {
     for (std::size_t el = 0; el < rest_volume_.size(); ++el) {

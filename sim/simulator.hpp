@@ -39,7 +39,8 @@ struct StepReport {
 //    relevant left half-plane directions).
 //  - per edge, the explicit update of its internal states: d relaxes with rate
 //    k1/(c1+c2) -> dt < 2 (c1+c2_min)/k1 (RK4: 2.78 (c1+c2_min)/k1); the Maxwell arm
-//    relaxes with rate k2/c3 -> dt < 2 c3/k2 (RK4: 2.78 c3/k2).
+//    relaxes with rate k2/c3 -> dt < 2 c3/k2 (RK4: 2.78 c3/k2), each spectrum arm likewise
+//    with its k_j/c_j (and its k_j counts in K_i).
 // The result is multiplied by a safety factor of 0.9 (strain hardening and the coupling of
 // d with positions are not in the bound).
 double max_stable_dt(const Model& model, Integrator integrator);
@@ -62,7 +63,8 @@ double max_stable_dt(const Model& model, Integrator integrator);
 //     through ldot and the clamp alone). With v.z = min(v.z, 0) the plate would teleport
 //     the particles at zero velocity, the series dampers would absorb the whole push at no
 //     force and the plate force would stay zero. During a hold the bound is 0 again.
-//  3. Each edge: d = clamp(d + dt*ddot, a_min*l, a_max*l) with l from step 1; m += dt*mdot.
+//  3. Each edge: d = clamp(d + dt*ddot, a_min*l, a_max*l) with l from step 1; m += dt*mdot;
+//     each spectrum arm s_j += dt*sdot_j.
 // The caller gives the plate height: plate_z = model.height - plate_mm / 1000.
 // RK4 integrates (x, v, d, m) with the classical four stages (fixed particles frozen),
 // then applies the same floor, plate and d-clamp projections; its plate force uses the
@@ -107,8 +109,10 @@ class Simulator {
     double h0;
     double sign;
   };
+  // sdot receives the spectrum arms' rates, laid out like State::spectrum.
   void compute_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
-                      std::vector<double>& mdot, std::vector<double>* lengths) const;
+                      std::vector<double>& mdot, std::vector<double>& sdot,
+                      std::vector<double>* lengths) const;
   void add_topology_forces(const State& s, std::vector<Vec3>& f) const;
   void add_volume_forces(const State& s, std::vector<Vec3>& f) const;
   double element_volume(const std::vector<Vec3>& x, std::size_t element) const;
@@ -128,12 +132,13 @@ class Simulator {
   std::vector<double> rest_volume_;  // signed rest area (2D) / volume (3D) per element
   std::vector<std::uint8_t> held_;   // 1 where the plate held the particle in the last step
   long long steps_ = 0;
+  int spectrum_stride_ = 0;  // spectrum states per edge (State::spectrum)
   // Scratch buffers reused every step (no allocation in the time loop).
   std::vector<Vec3> force_;
-  std::vector<double> ddot_, mdot_, length_;
+  std::vector<double> ddot_, mdot_, sdot_, length_;
   std::vector<State> stage_;
   std::vector<std::vector<Vec3>> stage_f_;
-  std::vector<std::vector<double>> stage_ddot_, stage_mdot_;
+  std::vector<std::vector<double>> stage_ddot_, stage_mdot_, stage_sdot_;
 };
 
 }  // namespace rheo

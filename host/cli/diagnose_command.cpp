@@ -29,9 +29,9 @@ void register_diagnose(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "diagnose",
       "Fit the baseline three-element model, analyse residuals by phase, fit each candidate "
-      "extension (second_relaxation_time, force_dependent_damping, strain_hardening, "
-      "sensor_lag, sensor_offset), pick by AIC confirmed on held-out data; writes "
-      "DIR/diagnosis.json, DIR/report.md and plots. Input formats, diagnosis.json and the "
+      "extension (" + identify::extension_names() +
+          "), pick by AIC confirmed on held-out data; writes "
+          "DIR/diagnosis.json, DIR/report.md and plots. Input formats, diagnosis.json and the "
       "cause vocabulary: docs/data-format.md.");
   cmd->add_option("files", args->files, "measurement files to fit")
       ->required()

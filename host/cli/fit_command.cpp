@@ -37,8 +37,7 @@ void register_fit(CLI::App& app) {
       "and creep tests are refused. Formats, assumptions and outputs: docs/data-format.md.");
   cmd->add_option("files", args->files, "measurement files")->required()->check(CLI::ExistingFile);
   cmd->add_option("--model", args->model,
-                  "three_element, second_relaxation_time, force_dependent_damping, "
-                  "strain_hardening, sensor_lag or sensor_offset")
+                  "three_element or one extension: " + identify::extension_names())
       ->capture_default_str();
   add_output_options(cmd, args->output);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");

@@ -148,8 +148,12 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped, bool
     if (m.nonlinear) notes.push_back(where + "nonlinear series damper (linear c2 used)");
     if (m.hardening != 0.0) notes.push_back(where + "strain hardening");
     if (m.has_maxwell_arm() && !keep_maxwell_arm) notes.push_back(where + "parallel Maxwell arm");
+    if (m.has_spectrum()) {
+      notes.push_back(where + "relaxation spectrum (" + std::to_string(m.spectrum_arms) + " arms)");
+    }
     m.nonlinear = false;
     m.hardening = 0.0;
+    m.spectrum_arms = 0;
     if (!keep_maxwell_arm || !m.has_maxwell_arm()) {
       m.k2 = 0.0;
       m.c3 = 0.0;

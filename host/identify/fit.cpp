@@ -1,6 +1,7 @@
 #include "host/identify/fit.hpp"
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -250,6 +251,16 @@ ModelSpec model_spec(Extension e, const DataScales& s) {
     case Extension::kSensorOffset:
       spec.params.push_back({"offset_N", -s.peak_force_N, s.peak_force_N, false});
       break;
+    case Extension::kRelaxationSpectrum:
+      // The arms' fastest time is a third of the window's start (sim/relaxation_spectrum.hpp):
+      // starting at three sample intervals keeps it at one interval, which the object
+      // model's step resolves without refinement.
+      spec.spectrum_t_lo = 3.0 * s.min_gap_s;
+      spec.spectrum_t_hi = std::max(s.duration_s, 10.0 * spec.spectrum_t_lo);
+      spec.params.push_back({"spectrum_modulus_Pa", M * 1e-4, M * 1e3, true});
+      // An exponent at 0 or 1 is no power law (a spring, a damper): the range stops short.
+      spec.params.push_back({"spectrum_alpha", 0.02, 0.98, false});
+      break;
   }
   return spec;
 }
@@ -279,6 +290,12 @@ SpecimenParams to_params(const ModelSpec& spec, const std::vector<double>& v) {
       break;
     case Extension::kSensorOffset:
       p.offset_N = v[3];
+      break;
+    case Extension::kRelaxationSpectrum:
+      p.spectrum_modulus = v[3];
+      p.spectrum_alpha = v[4];
+      p.spectrum_t_lo = spec.spectrum_t_lo;
+      p.spectrum_t_hi = spec.spectrum_t_hi;
       break;
   }
   return p;
@@ -335,6 +352,11 @@ std::vector<std::vector<double>> extension_starts(const ModelSpec& spec,
     case Extension::kSensorOffset:
       for (double f : {-0.02, 0.02}) with({f * s.peak_force_N});
       break;
+    case Extension::kRelaxationSpectrum:
+      for (double share : {0.1, 1.0}) {
+        for (double alpha : {0.2, 0.6}) with({share * base[0], alpha});
+      }
+      break;
   }
   return out;
 }
@@ -361,6 +383,13 @@ class ProgressCallback : public ceres::IterationCallback {
 
 FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
                     std::vector<std::vector<double>> starts, const FitOptions& options) {
+  // Ceres logs a start the model cannot run ("Residual and Jacobian evaluation failed") to
+  // stderr through glog; fit_model reports what failed itself, in the user's terms.
+  static const bool quiet_solver = [] {
+    FLAGS_minloglevel = google::GLOG_FATAL;
+    return true;
+  }();
+  (void)quiet_solver;
   const DataScales s = data_scales(data);
   const std::size_t k = spec.params.size();
   if (starts.empty()) {

@@ -22,10 +22,17 @@ struct ParamSpec {
   bool log_scale = true;
 };
 
+// Parameters of the baseline (E1, c1, c2): every ModelSpec starts with them, an
+// extension's own parameters follow.
+inline constexpr std::size_t kBaselineParams = 3;
+
 // A model to fit: the baseline three-element column plus at most one extension.
 struct ModelSpec {
   Extension extension = Extension::kNone;
   std::vector<ParamSpec> params;
+  // relaxation_spectrum: the window of times the power law covers [s], from the data (three
+  // shortest sample intervals to the longest record), not fitted.
+  double spectrum_t_lo = 0.0, spectrum_t_hi = 0.0;
   std::string name() const;  // "three_element" or "three_element+<cause>"
 };
 

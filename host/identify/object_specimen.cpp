@@ -8,6 +8,7 @@
 
 #include "sim/error.hpp"
 #include "sim/mesh.hpp"
+#include "sim/relaxation_spectrum.hpp"
 #include "sim/simulator.hpp"
 
 namespace rheo::identify {
@@ -26,6 +27,7 @@ double shortest_time_constant(const SpecimenParams& p) {
   const double c2_min = p.damping_ratio > 1.0 ? p.c2 / p.damping_ratio : p.c2;
   double tau = (p.c1 + c2_min) / p.E1;
   if (p.E2 > 0.0 && p.c3 > 0.0) tau = std::min(tau, p.c3 / p.E2);
+  if (p.spectrum_modulus > 0.0) tau = std::min(tau, fastest_spectrum_time(continuum_material(p)));
   return tau;
 }
 
@@ -64,23 +66,8 @@ Model object_model(const Geometry& g, const SpecimenParams& p, const ObjectMesh&
   b.sy = g.depth_mm * 1e-3;
   b.sz = g.height_m();
   b.structure = mesh.truss ? Structure::kTruss : Structure::kLattice;
-  EdgeMaterial& mat = b.material;
-  mat.k1 = p.E1;
-  mat.c1 = p.c1;
-  mat.c2 = p.c2;
-  mat.a_min = 0.0;
-  mat.a_max = 1e30;
-  if (p.E2 > 0.0 && p.c3 > 0.0) {
-    mat.k2 = p.E2;
-    mat.c3 = p.c3;
-  }
-  if (p.damping_ratio > 1.0 && p.damping_stress > 0.0) {
-    mat.nonlinear = true;
-    mat.f1 = 0.0;
-    mat.f2 = p.damping_stress;  // a stress: make_block turns it into an edge force
-    mat.c2_min = p.c2 / p.damping_ratio;
-  }
-  mat.hardening = p.hardening;
+  // f2 is a stress here: make_block turns it into an edge force.
+  b.material = continuum_material(p);
   Model model = make_block(b);
   model.gravity = Vec3::Zero();
   model.plate_contact = PlateContact::kHoldWhilePushing;
@@ -91,7 +78,8 @@ Model object_model(const Geometry& g, const SpecimenParams& p, const ObjectMesh&
   std::vector<double> stiffness(n, 0.0), damping(n, 0.0);
   for (const Edge& e : model.edges) {
     const EdgeMaterial& m = model.materials[e.material];
-    const double k = m.k1 + (m.has_maxwell_arm() ? m.k2 : 0.0);
+    double k = m.k1 + (m.has_maxwell_arm() ? m.k2 : 0.0);
+    for (int j = 0; j < m.spectrum_arms; ++j) k += m.spectrum[j].k;
     const double c = m.c1 * m.c2 / (m.c1 + m.c2);
     for (int i : {e.s, e.e}) {
       stiffness[i] += k;

@@ -8,6 +8,7 @@
 #include "host/identify/object_specimen.hpp"
 #include "sim/edge_kernel.hpp"
 #include "sim/error.hpp"
+#include "sim/relaxation_spectrum.hpp"
 
 namespace rheo::identify {
 namespace {
@@ -19,26 +20,43 @@ struct Column {
   double area = 0.0;
 };
 
+// Internal states of the column's edge: z = (d, m, s_1 .. s_K) with d the Voigt length, m
+// the Maxwell-arm extension and s_j the spectrum arms' extensions (K = spectrum_arms).
+// Sized at run time but stored inline (no heap allocation in the time loop): at most
+// d, m, the spectrum arms and the length l.
+constexpr int kMaxStates = 3 + EdgeMaterial::kMaxSpectrumArms;
+using VecX = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxStates, 1>;
+using MatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxStates, kMaxStates>;
+
 struct EdgeRates {
   double tension = 0.0;
-  double ddot = 0.0;
-  double mdot = 0.0;
+  VecX zdot;  // rates of z
 };
+
+int state_size(const Column& c) { return 2 + c.material.spectrum_arms; }
 
 // The reference kernel on the column: bottom particle at the origin at rest, top particle
 // at height l moving up with ldot.
-EdgeRates evaluate(const Column& c, double l, double ldot, double d, double m) {
+EdgeRates evaluate(const Column& c, double l, double ldot, const VecX& z) {
   const Vec3 xs(0.0, 0.0, 0.0), xe(0.0, 0.0, l), vs(0.0, 0.0, 0.0), ve(0.0, 0.0, ldot);
-  const EdgeEval<double> e = evaluate_edge<double>(c.material, xs, xe, vs, ve, d, c.h, c.h, m);
-  return {e.tension, e.ddot, e.mdot};
+  EdgeRates r;
+  r.zdot.resize(z.size());
+  const int arms = c.material.spectrum_arms;
+  const EdgeEval<double> e = evaluate_edge<double>(c.material, xs, xe, vs, ve, z[0], c.h, c.h,
+                                                   z[1], arms > 0 ? z.data() + 2 : nullptr,
+                                                   arms > 0 ? r.zdot.data() + 2 : nullptr);
+  r.tension = e.tension;
+  r.zdot[0] = e.ddot;
+  r.zdot[1] = e.mdot;
+  return r;
 }
 
 // Out of contact the massless top particle moves so that the tension vanishes. The
 // tension is affine in ldot (the series viscosity depends on the spring force only), so
 // two kernel evaluations give the root exactly.
-double free_ldot(const Column& c, double l, double d, double m) {
-  const double t0 = evaluate(c, l, 0.0, d, m).tension;
-  const double t1 = evaluate(c, l, 1.0, d, m).tension;
+double free_ldot(const Column& c, double l, const VecX& z) {
+  const double t0 = evaluate(c, l, 0.0, z).tension;
+  const double t1 = evaluate(c, l, 1.0, z).tension;
   const double slope = t1 - t0;
   if (!(slope > 0.0)) {
     throw Error(
@@ -48,63 +66,83 @@ double free_ldot(const Column& c, double l, double d, double m) {
   return -t0 / slope;
 }
 
-using Vec3d = Eigen::Vector3d;
-using Vec2d = Eigen::Vector2d;
-
-// Free-phase rates of (d, m, l).
-Vec3d free_rates(const Column& c, const Vec3d& y) {
-  const double ld = free_ldot(c, y[2], y[0], y[1]);
-  const EdgeRates r = evaluate(c, y[2], ld, y[0], y[1]);
-  return Vec3d(r.ddot, r.mdot, ld);
+// Free-phase rates of y = (z, l).
+VecX free_rates(const Column& c, const VecX& y) {
+  const int n = static_cast<int>(y.size()) - 1;
+  const VecX z = y.head(n);
+  const double l = y[n];
+  const double ld = free_ldot(c, l, z);
+  VecX out(y.size());
+  out.head(n) = evaluate(c, l, ld, z).zdot;
+  out[n] = ld;
+  return out;
 }
 
-// Contact-phase rates of (d, m) at a given length and stretching rate.
-Vec2d contact_rates(const Column& c, double l, double ldot, const Vec2d& z) {
-  const EdgeRates r = evaluate(c, l, ldot, z[0], z[1]);
-  return Vec2d(r.ddot, r.mdot);
+// Contact-phase rates of z at a given length and stretching rate.
+VecX contact_rates(const Column& c, double l, double ldot, const VecX& z) {
+  return evaluate(c, l, ldot, z).zdot;
 }
 
 double fd_step(double v, double scale) { return 1e-7 * std::max(std::abs(v), scale); }
 
 // Backward Euler of the free phase: y1 = y0 + dt f(y1), Newton with a finite-difference
 // Jacobian taken at y0 (exact in one iteration for a linear material).
-Vec3d free_step(const Column& c, const Vec3d& y0, double dt) {
-  const Vec3d f0 = free_rates(c, y0);
-  Eigen::Matrix3d jac;
-  for (int j = 0; j < 3; ++j) {
-    Vec3d yp = y0;
+VecX free_step(const Column& c, const VecX& y0, double dt) {
+  const int n = static_cast<int>(y0.size());
+  const VecX f0 = free_rates(c, y0);
+  MatX jac(n, n);
+  for (int j = 0; j < n; ++j) {
+    VecX yp = y0;
     const double hstep = fd_step(y0[j], c.h);
     yp[j] += hstep;
     jac.col(j) = (free_rates(c, yp) - f0) / hstep;
   }
-  const Eigen::Matrix3d a = Eigen::Matrix3d::Identity() - dt * jac;
+  const MatX a = MatX::Identity(n, n) - dt * jac;
   const auto lu = a.partialPivLu();
-  Vec3d y1 = y0 + lu.solve(dt * f0);
+  VecX y1 = y0 + lu.solve(dt * f0);
   for (int it = 0; it < 2; ++it) {
-    const Vec3d res = y1 - y0 - dt * free_rates(c, y1);
+    const VecX res = y1 - y0 - dt * free_rates(c, y1);
     y1 -= lu.solve(res);
   }
   return y1;
 }
 
-// Trapezoidal rule of the contact phase for (d, m) with the length moving from l0 to l1.
-Vec2d contact_step(const Column& c, const Vec2d& z0, double l0, double l1, double dt) {
+// Contact phase with the length moving from l0 to l1 (constant ldot): trapezoidal rule for
+// (d, m); the spectrum arms, linear and driven by ldot alone (sdot_j = ldot - s_j / tau_j,
+// neither d nor m enters), take their exact solution, which keeps the Newton system at two
+// unknowns however many arms there are.
+VecX contact_step(const Column& c, const VecX& z0, double l0, double l1, double dt) {
+  constexpr int n = 2;
+  using Vec2 = Eigen::Vector2d;
   const double ldot = (l1 - l0) / dt;
-  const Vec2d g0 = contact_rates(c, l0, ldot, z0);
-  const Vec2d g1 = contact_rates(c, l1, ldot, z0);
+  auto rates = [&](double l, const Vec2& dm) {
+    VecX z = z0;
+    z.head<n>() = dm;
+    return Vec2(contact_rates(c, l, ldot, z).head<n>());
+  };
+  const Vec2 y0 = z0.head<n>();
+  const Vec2 g0 = rates(l0, y0);
+  const Vec2 g1 = rates(l1, y0);
   Eigen::Matrix2d jac;
-  for (int j = 0; j < 2; ++j) {
-    Vec2d zp = z0;
-    const double hstep = fd_step(z0[j], c.h);
-    zp[j] += hstep;
-    jac.col(j) = (contact_rates(c, l1, ldot, zp) - g1) / hstep;
+  for (int j = 0; j < n; ++j) {
+    Vec2 yp = y0;
+    const double hstep = fd_step(y0[j], c.h);
+    yp[j] += hstep;
+    jac.col(j) = (rates(l1, yp) - g1) / hstep;
   }
   const Eigen::Matrix2d a = Eigen::Matrix2d::Identity() - 0.5 * dt * jac;
   const auto lu = a.partialPivLu();
-  Vec2d z1 = z0 + lu.solve(0.5 * dt * (g0 + g1));
+  Vec2 y1 = y0 + lu.solve(0.5 * dt * (g0 + g1));
   for (int it = 0; it < 2; ++it) {
-    const Vec2d res = z1 - z0 - 0.5 * dt * (g0 + contact_rates(c, l1, ldot, z1));
-    z1 -= lu.solve(res);
+    const Vec2 res = y1 - y0 - 0.5 * dt * (g0 + rates(l1, y1));
+    y1 -= lu.solve(res);
+  }
+  VecX z1 = z0;
+  z1.head<n>() = y1;
+  for (int j = 0; j < c.material.spectrum_arms; ++j) {
+    const double tau = c.material.spectrum[j].c / c.material.spectrum[j].k;
+    const double decay = std::exp(-dt / tau);
+    z1[n + j] = z0[n + j] * decay + ldot * tau * (1.0 - decay);
   }
   return z1;
 }
@@ -127,7 +165,8 @@ void check_positive(double v, const char* name) {
 const std::vector<Extension>& all_extensions() {
   static const std::vector<Extension> list{
       Extension::kSecondRelaxationTime, Extension::kForceDependentDamping,
-      Extension::kStrainHardening, Extension::kSensorLag, Extension::kSensorOffset};
+      Extension::kStrainHardening, Extension::kSensorLag, Extension::kSensorOffset,
+      Extension::kRelaxationSpectrum};
   return list;
 }
 
@@ -145,6 +184,8 @@ std::string cause_name(Extension e) {
       return "sensor_lag";
     case Extension::kSensorOffset:
       return "sensor_offset";
+    case Extension::kRelaxationSpectrum:
+      return "relaxation_spectrum";
   }
   return "none";
 }
@@ -154,14 +195,26 @@ Extension extension_from_name(const std::string& name) {
   for (Extension e : all_extensions()) {
     if (cause_name(e) == name) return e;
   }
-  throw Error("unknown model/cause '" + name +
-              "', expected three_element, second_relaxation_time, force_dependent_damping, "
-              "strain_hardening, sensor_lag or sensor_offset");
+  throw Error("unknown model/cause '" + name + "', expected three_element or one of " +
+              extension_names());
+}
+
+std::string extension_names() {
+  std::string out;
+  for (Extension e : all_extensions()) out += (out.empty() ? "" : ", ") + cause_name(e);
+  return out;
 }
 
 Model coarse_model(const Geometry& g, const SpecimenParams& p) {
   const double h = g.height_m();
   const double per_length = g.area_m2() / h;  // k = E A / h, c = eta A / h
+  EdgeMaterial mat = continuum_material(p);
+  for (double* v : {&mat.k1, &mat.c1, &mat.c2, &mat.c2_min, &mat.k2, &mat.c3}) *v *= per_length;
+  for (int j = 0; j < mat.spectrum_arms; ++j) {
+    mat.spectrum[j].k *= per_length;
+    mat.spectrum[j].c *= per_length;
+  }
+  mat.f2 *= g.area_m2();
   Model model;
   model.dim = 3;
   model.x0 = {Vec3(0.0, 0.0, 0.0), Vec3(0.0, 0.0, h)};
@@ -171,26 +224,34 @@ Model coarse_model(const Geometry& g, const SpecimenParams& p) {
   model.size = h;
   model.height = h;
   model.top_area = g.area_m2();
+  model.materials = {mat};
+  model.edges = {Edge{0, 1, h, h, 0}};
+  return model;
+}
+
+EdgeMaterial continuum_material(const SpecimenParams& p) {
   EdgeMaterial mat;
-  mat.k1 = p.E1 * per_length;
-  mat.c1 = p.c1 * per_length;
-  mat.c2 = p.c2 * per_length;
+  mat.k1 = p.E1;
+  mat.c1 = p.c1;
+  mat.c2 = p.c2;
   mat.a_min = 0.0;
   mat.a_max = 1e30;
   if (p.E2 > 0.0 && p.c3 > 0.0) {
-    mat.k2 = p.E2 * per_length;
-    mat.c3 = p.c3 * per_length;
+    mat.k2 = p.E2;
+    mat.c3 = p.c3;
   }
   if (p.damping_ratio > 1.0 && p.damping_stress > 0.0) {
     mat.nonlinear = true;
     mat.f1 = 0.0;
-    mat.f2 = p.damping_stress * g.area_m2();
-    mat.c2_min = mat.c2 / p.damping_ratio;
+    mat.f2 = p.damping_stress;
+    mat.c2_min = p.c2 / p.damping_ratio;
   }
   mat.hardening = p.hardening;
-  model.materials = {mat};
-  model.edges = {Edge{0, 1, h, h, 0}};
-  return model;
+  if (p.spectrum_modulus > 0.0) {
+    set_power_law_spectrum(mat, {p.spectrum_modulus, p.spectrum_alpha, p.spectrum_t_lo,
+                                 p.spectrum_t_hi});
+  }
+  return mat;
 }
 
 std::string coarse_mesh_description(const Geometry& g) {
@@ -330,6 +391,8 @@ Prediction simulate(const Measurement& protocol, const SpecimenParams& p,
   // Accuracy bound on the step: a fraction of the shortest material time constant.
   double tau_min = (p.c1 + p.c2) / p.E1;
   if (arm) tau_min = std::min(tau_min, p.c3 / p.E2);
+  // The spectrum arms do not bound the step: in contact they are integrated exactly
+  // (contact_step), and out of contact backward Euler keeps them stable.
   const double duration = protocol.time_s.back();
   double dt_max = std::min(options.max_dt, tau_min / options.steps_per_time_constant);
   dt_max = std::max(dt_max, duration / static_cast<double>(options.max_steps));
@@ -340,7 +403,11 @@ Prediction simulate(const Measurement& protocol, const SpecimenParams& p,
   out.surface_mm.resize(n);
   out.contact.resize(n);
 
-  double l = h, d = h, m = 0.0;  // at rest, Voigt length at its natural value
+  // At rest: Voigt length at its natural value, arms unstretched.
+  const int nz = state_size(col);
+  VecX z = VecX::Zero(nz);
+  z[0] = h;
+  double l = h;
   double t = 0.0, plate_m = 0.0;
   double sensor = 0.0;  // lagged force reading [N]
   bool in_contact = false;
@@ -360,43 +427,42 @@ Prediction simulate(const Measurement& protocol, const SpecimenParams& p,
       // the plate takes over when it is below where the free surface would be.
       bool stepped = false;
       if (in_contact) {
-        const Vec2d z = contact_step(col, Vec2d(d, m), l, l_plate, dt);
+        const VecX z1 = contact_step(col, z, l, l_plate, dt);
         const double ldot = (l_plate - l) / dt;
-        const double f = -evaluate(col, l_plate, ldot, z[0], z[1]).tension;
+        const double f = -evaluate(col, l_plate, ldot, z1).tension;
         if (f >= 0.0) {
           l = l_plate;
-          d = z[0];
-          m = z[1];
+          z = z1;
           force = f;
           stepped = true;
         }
       }
       if (!stepped) {
-        const Vec3d free = free_step(col, Vec3d(d, m, l), dt);
-        if (l_plate < free[2]) {
+        VecX y(nz + 1);
+        y << z, l;
+        const VecX free = free_step(col, y, dt);
+        if (l_plate < free[nz]) {
           // The plate is below where the free surface would be: it pushes.
-          const Vec2d z = contact_step(col, Vec2d(d, m), l, l_plate, dt);
+          const VecX z1 = contact_step(col, z, l, l_plate, dt);
           const double ldot = (l_plate - l) / dt;
           l = l_plate;
-          d = z[0];
-          m = z[1];
-          force = -evaluate(col, l, ldot, d, m).tension;
+          z = z1;
+          force = -evaluate(col, l, ldot, z).tension;
           in_contact = true;
         } else {
-          d = free[0];
-          m = free[1];
-          l = free[2];
+          z = free.head(nz);
+          l = free[nz];
           force = 0.0;
           in_contact = false;
         }
       }
-      d = clamp_voigt_length(col.material, d, l);
+      z[0] = clamp_voigt_length(col.material, z[0], l);
       if (p.lag_s > 0.0) {
         sensor += (force - sensor) * (1.0 - std::exp(-dt / p.lag_s));
       } else {
         sensor = force;
       }
-      if (!std::isfinite(l) || !std::isfinite(d) || !std::isfinite(m) || !std::isfinite(sensor)) {
+      if (!std::isfinite(l) || !z.allFinite() || !std::isfinite(sensor)) {
         std::ostringstream msg;
         msg << "specimen model: non-finite state at t = " << t + dt * s
             << " s (numerical trouble; parameters E1=" << p.E1 << " c1=" << p.c1 << " c2=" << p.c2

@@ -35,11 +35,14 @@ enum class Extension {
   kStrainHardening,
   kSensorLag,
   kSensorOffset,
+  kRelaxationSpectrum,
 };
 
 const std::vector<Extension>& all_extensions();          // every extension except kNone
 std::string cause_name(Extension e);                     // "second_relaxation_time", ...
 Extension extension_from_name(const std::string& name);  // throws rheo::Error when unknown
+// The cause names of all_extensions(), comma-separated, for help and error texts.
+std::string extension_names();
 
 // Material and sensor parameters of the column in continuum units.
 struct SpecimenParams {
@@ -51,9 +54,20 @@ struct SpecimenParams {
   double damping_stress = 0.0;  // [Pa] stress at which the series viscosity reaches c2/ratio
   double damping_ratio = 1.0;   // c2 / c2_min (1 = linear damper)
   double hardening = 0.0;       // k_eff = k1 (1 + hardening e^2), e the column strain
+  // Relaxation spectrum: parallel Maxwell arms standing for a power law
+  // G(t) = spectrum_modulus (t / t_mid)^-spectrum_alpha over the window [t_lo, t_hi]
+  // (sim/relaxation_spectrum.hpp); the window comes from the data, it is not fitted.
+  double spectrum_modulus = 0.0;  // [Pa] G at t_mid = sqrt(t_lo t_hi) (0 = none)
+  double spectrum_alpha = 0.5;
+  double spectrum_t_lo = 0.0, spectrum_t_hi = 0.0;  // [s]
   double lag_s = 0.0;           // first-order load-cell lag [s] (0 = none)
   double offset_N = 0.0;        // constant load-cell offset [N]
 };
+
+// The edge material of these parameters in continuum units (moduli [Pa], viscosities
+// [Pa s], the damper's switch stress f2 [Pa]); the column and the object mesh scale it to
+// their edges.
+EdgeMaterial continuum_material(const SpecimenParams& p);
 
 // The coarse rheo::Model of the specimen (two particles, one edge) with these parameters.
 Model coarse_model(const Geometry& g, const SpecimenParams& p);

@@ -134,10 +134,14 @@ TEST_F(SimulateTest, ClayPushForceRisesDuringPushRelaxesDuringHoldAndVanishesAft
   const double early_hold = mean_force(rows, push_end + 1.0, push_end + 3.0);
   const double late_hold = mean_force(rows, hold_end - 3.0, hold_end - 1.0);
   const double after_release = mean_force(rows, release_end + 2.0, release_end + 20.0);
+  const double hold_10s = mean_force(rows, push_end + 9.0, push_end + 11.0);
   EXPECT_GT(late_push, 1.5 * early_push);
-  // One relaxation time of about 128 s over the 45 s between the windows: a drop of
-  // 1 - exp(-45/128) = 30 %; at least 15 % must show.
-  EXPECT_LT(late_hold, 0.85 * early_hold);
+  // Two relaxation times (seed 002's model (b)): the fast arm (4.6 s) carries about a tenth
+  // of the force at the end of the push (its stress c3 * strain rate against k1 * strain)
+  // and is mostly gone 10 s into the hold; the slow one (534 s) then takes
+  // 1 - exp(-35/534) = 6 % more by the end of the hold.
+  EXPECT_LT(hold_10s, 0.96 * early_hold);
+  EXPECT_LT(late_hold, 0.96 * hold_10s);
   EXPECT_GT(late_hold, 0.0);
   constexpr double kNoContactForce = 1e-3;  // [N], the plate has left the surface
   EXPECT_LT(after_release, kNoContactForce);
