@@ -207,6 +207,12 @@ DataScales data_scales(const std::vector<Measurement>& data) {
       if (i > 0) s.min_gap_s = std::min(s.min_gap_s, m.time_s[i] - m.time_s[i - 1]);
     }
     s.min_gap_s = std::min(s.min_gap_s, m.time_s.front() > 0 ? m.time_s.front() : s.min_gap_s);
+    for (double t : m.time_s) {
+      if (t > 0.0) {
+        s.first_time_s = s.first_time_s > 0.0 ? std::min(s.first_time_s, t) : t;
+        break;
+      }
+    }
     s.duration_s = std::max(s.duration_s, m.time_s.back());
   }
   if (!(peak_strain > 0.0)) {
@@ -254,8 +260,10 @@ ModelSpec model_spec(Extension e, const DataScales& s) {
     case Extension::kRelaxationSpectrum:
       // The arms' fastest time is a third of the window's start (sim/relaxation_spectrum.hpp):
       // starting at three sample intervals keeps it at one interval, which the object
-      // model's step resolves without refinement.
-      spec.spectrum_t_lo = 3.0 * s.min_gap_s;
+      // model's step resolves without refinement. A record sampled on a log time axis has
+      // its shortest interval far below its first sample time, which is as early as such a
+      // record resolves anything (and the fastest arm sets every step of the object model).
+      spec.spectrum_t_lo = std::max(3.0 * s.min_gap_s, s.first_time_s);
       spec.spectrum_t_hi = std::max(s.duration_s, 10.0 * spec.spectrum_t_lo);
       spec.params.push_back({"spectrum_modulus_Pa", M * 1e-4, M * 1e3, true});
       // An exponent at 0 or 1 is no power law (a spring, a damper): the range stops short.

@@ -31,7 +31,8 @@ struct ModelSpec {
   Extension extension = Extension::kNone;
   std::vector<ParamSpec> params;
   // relaxation_spectrum: the window of times the power law covers [s], from the data (three
-  // shortest sample intervals to the longest record), not fitted.
+  // shortest sample intervals, or the first sample time if later, to the longest record),
+  // not fitted.
   double spectrum_t_lo = 0.0, spectrum_t_hi = 0.0;
   std::string name() const;  // "three_element" or "three_element+<cause>"
 };
@@ -43,6 +44,7 @@ struct DataScales {
   double min_gap_s = 1.0;  // shortest sample spacing
   double peak_force_N = 1.0;
   double peak_strain = 0.0;  // largest plate_mm / height
+  double first_time_s = 0.0;  // earliest positive sample time of any file
 };
 DataScales data_scales(const std::vector<Measurement>& data);
 
