@@ -12,6 +12,7 @@
 #include <string>
 
 #include "tests/identify/continuum_body.hpp"
+#include "tests/identify/diagnose_subprocess.hpp"
 
 namespace rheo::testing {
 namespace {
@@ -76,14 +77,8 @@ TEST_P(ContinuumHiddenEffectTest, DiagnoseNamesTheHiddenCause) {
   write_measurement_csv((dir / "holdout.csv").string(), body,
                         run_continuum(body, holdout_protocol, kNoiseN, c.seed + 1000), false,
                         note);
-  const std::string cmd = std::string(RHEO_BIN) + " diagnose '" + (dir / "fit.csv").string() +
-                          "' --holdout '" + (dir / "holdout.csv").string() + "' --out '" +
-                          (dir / "out").string() + "' --force > '" + (dir / "log.txt").string() +
-                          "' 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << "rheo diagnose failed, see " << dir / "log.txt";
-  std::ifstream in(dir / "out" / "diagnosis.json");
-  ASSERT_TRUE(in.good());
-  const auto j = nlohmann::json::parse(in);
+  const nlohmann::json j = run_diagnose(dir);
+  ASSERT_FALSE(HasFailure());
   EXPECT_EQ(j["finding"]["cause"].get<std::string>(), c.cause)
       << j["finding"]["evidence"].get<std::string>() << "\n"
       << j["candidates"].dump();

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "tests/identify/diagnose_subprocess.hpp"
 #include "tests/identify/hidden_effect_generator.hpp"
 
 namespace rheo::testing {
@@ -37,14 +38,8 @@ TEST_P(HiddenEffectTest, DiagnoseNamesTheHiddenCause) {
   write_csv((dir / "fit.csv").string(), body, run_lumped(body, fit_protocol, kNoiseN, c.seed));
   write_csv((dir / "holdout.csv").string(), body,
             run_lumped(body, holdout_protocol, kNoiseN, c.seed + 1000));
-  const std::string cmd = std::string(RHEO_BIN) + " diagnose '" + (dir / "fit.csv").string() +
-                          "' --holdout '" + (dir / "holdout.csv").string() + "' --out '" +
-                          (dir / "out").string() + "' --force > '" + (dir / "log.txt").string() +
-                          "' 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << "rheo diagnose failed, see " << dir / "log.txt";
-  std::ifstream in(dir / "out" / "diagnosis.json");
-  ASSERT_TRUE(in.good());
-  const auto j = nlohmann::json::parse(in);
+  const nlohmann::json j = run_diagnose(dir);
+  ASSERT_FALSE(HasFailure());
   EXPECT_EQ(j["finding"]["cause"].get<std::string>(), expected_cause(c.effect))
       << j["finding"]["evidence"].get<std::string>() << "\n"
       << j["candidates"].dump();
