@@ -25,6 +25,9 @@
 //     fixed: x = x0, p = 0
 //     plate particle above the plate: z = plate_z, p.z = min(p.z, plate_z - z_start),
 //       plate force += f.z
+//     with hold-while-pushing on, a plate particle the plate held in the previous step
+//       (z_start = the previous plate height) that pushes (f.z > 0): z = plate_z,
+//       p.z = plate_z - z_start, plate force += f.z
 //     else free particle below the floor: z = 0, p.z = max(p.z, 0)
 #pragma once
 
@@ -288,7 +291,29 @@ struct MpmGlobals {
   std::int64_t plate_z = 0;       // X format
   bool plate_enable = false;
   bool floor_enable = false;
+  // Hold while pushing (frame::kControlPlateHold). A particle the plate held in the previous
+  // step sits exactly at that step's plate height, so the core needs no per-particle bit:
+  // it keeps the previous plate height (valid from the second step after a control write).
+  bool plate_hold = false;
+  std::int64_t plate_z_prev = 0;
+  bool plate_prev_valid = false;
 };
+
+// The plate height of the next step (the core's StRunPlate): the current one becomes the
+// previous one.
+inline void start_step(MpmGlobals& g, std::int64_t plate_z) {
+  g.plate_z_prev = g.plate_z;
+  g.plate_prev_valid = true;
+  g.plate_z = plate_z;
+}
+
+// A write of the control register: the enables, and no previous plate height yet.
+inline void write_control(MpmGlobals& g, bool floor, bool plate, bool plate_hold) {
+  g.floor_enable = floor;
+  g.plate_enable = plate;
+  g.plate_hold = plate_hold;
+  g.plate_prev_valid = false;
+}
 
 // Updates one particle in place; returns the z force to add to the plate accumulator
 // (0 when the particle is not held by the plate).
@@ -313,16 +338,23 @@ inline std::int64_t mpm_particle(MpmParticle& q, const std::int64_t f[3], const 
       x[i] = q.x0[i];
       p[i] = 0;
     }
-  } else if ((q.flags & kCorePlate) && g.plate_enable && x[2] > g.plate_z) {
+  } else if ((q.flags & kCorePlate) && g.plate_enable &&
+             (x[2] > g.plate_z || (g.plate_hold && g.plate_prev_valid &&
+                                   q.x[2] == g.plate_z_prev && f[2] > 0))) {
     // The held particle moves with the plate: p.z <= plate_z - z_start (as the reference
-    // simulator does), so the edges see the plate's strain rate.
+    // simulator does), so the edges see the plate's strain rate; a particle kept because
+    // it pushes moves exactly with the plate.
     std::uint32_t lim_status = 0;
     const std::int64_t lim =
         saturate(shift_round<R>(i128(g.plate_z) - q.x[2], -(Fmt::kFracP - Fmt::kFracX)), W,
                  &lim_status, kFlag);
     *status |= lim_status;
+    if (x[2] > g.plate_z) {
+      if (p[2] > lim) p[2] = lim;
+    } else {
+      p[2] = lim;
+    }
     x[2] = g.plate_z;
-    if (p[2] > lim) p[2] = lim;
     plate_force = f[2];
   } else if (g.floor_enable && x[2] < 0) {
     x[2] = 0;

@@ -1,6 +1,6 @@
 // Rheological-object core: particle and edge state in on-chip memories, Lanes parallel
 // TEM and MPM lanes, and an AXI4-Stream style command interface (format in
-// host/driver/frame_format.hpp, constants in rheo_consts_pkg).
+// hls/frame_format.hpp, constants in rheo_consts_pkg).
 //
 // Partitioning: particle i lives in bank i % Lanes at local address i / Lanes; edge slot t
 // (host index) belongs to lane t % Lanes, row t / Lanes. The host (make_core_image)
@@ -96,6 +96,11 @@ module rheo_core #(
   logic [W-1:0] gravity_q [3];
   logic floor_en_q, plate_en_q;
   logic [W-1:0] plate_z_q;
+  // Hold while pushing: a particle the plate held in the previous step sits exactly at
+  // that step's plate height, so the previous height (valid from the second step after a
+  // control write) stands in for a held bit per particle.
+  logic plate_hold_en_q, plate_prev_valid_q;
+  logic [W-1:0] plate_prev_q;
   logic [31:0] status_q, step_count_q, cycle_count_q;
   logic [CoefW-1:0] mat_coef [MaxMaterials][6];
   logic [1:0] mat_flags [MaxMaterials];
@@ -393,6 +398,8 @@ module rheo_core #(
       .plate_z_i (plate_z_q),
       .plate_en_i(plate_en_q),
       .floor_en_i(floor_en_q),
+      .hold_en_i (plate_hold_en_q & plate_prev_valid_q),
+      .plate_prev_i(plate_prev_q),
       .valid_o   (mpm_valid[j]),
       .idx_o     (mpm_idx[j]),
       .x_o       (mpm_x[j]),
@@ -653,6 +660,9 @@ module rheo_core #(
       floor_en_q <= 1'b0;
       plate_en_q <= 1'b0;
       plate_z_q <= '0;
+      plate_hold_en_q <= 1'b0;
+      plate_prev_valid_q <= 1'b0;
+      plate_prev_q <= '0;
       status_q <= '0;
       step_count_q <= '0;
       cycle_count_q <= '0;
@@ -733,8 +743,10 @@ module rheo_core #(
                 IdxCountW'(rheo_consts_pkg::GlobalGravityY): gravity_q[1] <= s_axis_tdata;
                 IdxCountW'(rheo_consts_pkg::GlobalGravityZ): gravity_q[2] <= s_axis_tdata;
                 IdxCountW'(rheo_consts_pkg::GlobalControl): begin
-                  floor_en_q <= s_axis_tdata[0];
-                  plate_en_q <= s_axis_tdata[1];
+                  floor_en_q <= s_axis_tdata[rheo_consts_pkg::ControlFloorBit];
+                  plate_en_q <= s_axis_tdata[rheo_consts_pkg::ControlPlateBit];
+                  plate_hold_en_q <= s_axis_tdata[rheo_consts_pkg::ControlPlateHoldBit];
+                  plate_prev_valid_q <= 1'b0;
                 end
                 default: status_q <= status_q | 32'(rheo_consts_pkg::StatusBadCommand);
               endcase
@@ -798,6 +810,8 @@ module rheo_core #(
         StRunPlate: begin
           if (in_fire) begin
             plate_z_q <= s_axis_tdata;
+            plate_prev_q <= plate_z_q;
+            plate_prev_valid_q <= 1'b1;
             row_q <= '0;
             state_q <= StTem;
           end

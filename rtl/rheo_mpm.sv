@@ -5,6 +5,8 @@
 //   fixed: x = x0, p = 0
 //   plate particle above the plate: z = plate_z, p.z = min(p.z, plate_z - z_start),
 //     plate_f = f.z  (the held particle moves with the plate, as in the reference model)
+//   with hold_en_i, a plate particle held in the previous step (z_start = plate_prev_i)
+//     that pushes (f.z > 0): z = plate_z, p.z = plate_z - z_start, plate_f = f.z
 //   otherwise below the floor: z = 0, p.z = max(p.z, 0)
 // Rounding is to nearest, results saturate and raise sat_o. Mirrors rheo::hls::mpm_particle
 // bit for bit, for every coefficient word (left shifts included).
@@ -52,6 +54,8 @@ module rheo_mpm #(
   input  logic [W-1:0]    plate_z_i,   // plate height (X format)
   input  logic            plate_en_i,
   input  logic            floor_en_i,
+  input  logic            hold_en_i,   // hold while pushing (previous plate height valid)
+  input  logic [W-1:0]    plate_prev_i,  // plate height of the previous step
   output logic            valid_o,
   output logic [IdxW-1:0] idx_o,
   output logic [3*W-1:0]  x_o,
@@ -144,6 +148,7 @@ module rheo_mpm #(
   logic signed [W-1:0] xn_q [3];           // stage 6: x (x0 when fixed)
   logic signed [W-1:0] pn_q [3];           // stage 6: p (0 when fixed)
   logic pz_above_lim_q;                    // stage 6: p.z > lim
+  logic was_held_q;                        // stage 6: z_start = previous plate height
   logic signed [W-1:0] xo_q [3];
   logic signed [W-1:0] po_q [3];
   logic signed [W-1:0] plate_f_q;
@@ -170,7 +175,7 @@ module rheo_mpm #(
   logic [W:0] p1_c [3], p_c [3], x_c [3];
   logic [W+1:0] x_sum [3];
   logic [2:0] clip4, clip5, clip6;
-  logic hold, on_floor;
+  logic hold, stick, on_floor;
 
   always_comb begin
     // stage 1: partial products (the low part unsigned: a zero sign bit)
@@ -236,7 +241,9 @@ module rheo_mpm #(
     end
     // stage 7: plate and floor (fixed particles were settled at stage 6)
     hold = flags_q[6][1] && !flags_q[6][0] && plate_en_i && xn_q[2] > $signed(plate_z_i);
-    on_floor = !flags_q[6][0] && !hold && floor_en_i && xn_q[2][W-1];
+    stick = flags_q[6][1] && !flags_q[6][0] && plate_en_i && !hold && hold_en_i &&
+            was_held_q && fz_q[6] > 0;
+    on_floor = !flags_q[6][0] && !hold && !stick && floor_en_i && xn_q[2][W-1];
   end
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
@@ -315,6 +322,7 @@ module rheo_mpm #(
       pn_q[i] <= flags_q[5][0] ? '0 : p_q[i];
     end
     pz_above_lim_q <= p_q[2] > lim_q[0];
+    was_held_q <= x_q[5][2] == plate_prev_i;
     lim_q[1] <= lim_q[0];
     lim_clip_q[1] <= lim_clip_q[0];
     clip_q[2] <= clip6;
@@ -329,11 +337,15 @@ module rheo_mpm #(
       xo_q[2] <= plate_z_i;
       if (pz_above_lim_q) po_q[2] <= lim_q[1];
       plate_f_q <= fz_q[6];
+    end else if (stick) begin
+      xo_q[2] <= plate_z_i;
+      po_q[2] <= lim_q[1];
+      plate_f_q <= fz_q[6];
     end else if (on_floor) begin
       xo_q[2] <= '0;
       if (pn_q[2][W-1]) po_q[2] <= '0;
     end
-    sat_q[2] <= sat_q[1] | (|clip_q[2]) | (hold & lim_clip_q[1]);
+    sat_q[2] <= sat_q[1] | (|clip_q[2]) | ((hold | stick) & lim_clip_q[1]);
   end
 
   assign valid_o = v_q[Last];

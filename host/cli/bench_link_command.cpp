@@ -24,7 +24,7 @@
 #include "host/cli/commands.hpp"
 #include "host/driver/core_image.hpp"
 #include "host/driver/device.hpp"
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "host/driver/link/cosim_server.hpp"
 #include "host/driver/link/null_core.hpp"
 #include "host/driver/link/remote_transport.hpp"

@@ -1,7 +1,7 @@
 #include "host/driver/bittrue_transport.hpp"
 
 #include "host/driver/core_image.hpp"
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::driver {
@@ -72,8 +72,8 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
           m.globals.g[2] = sword(w);
           break;
         case frame::kGlobalControl:
-          m.globals.floor_enable = w & frame::kControlFloor;
-          m.globals.plate_enable = w & frame::kControlPlate;
+          hls::write_control(m.globals, w & frame::kControlFloor, w & frame::kControlPlate,
+                             w & frame::kControlPlateHold);
           break;
         default:
           m.status |= hls::kStatusBadCommand;
@@ -193,7 +193,7 @@ void BitTrueTransport::process() {
       if (in_.size() < 2) return;
       // Step with the next plate word; the header stays with the remaining count.
       in_.pop_front();
-      m.globals.plate_z = sword(in_.front());
+      hls::start_step(m.globals, sword(in_.front()));
       in_.pop_front();
       const std::int64_t plate_force =
           maxwell_arm_ ? hls::core_step<Fmt, true>(m) : hls::core_step<Fmt>(m);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::driver {
@@ -159,11 +159,6 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped, bool
       m.c3 = 0.0;
     }
   }
-  if (hw.plate_contact != PlateContact::kPenetration) {
-    notes.push_back("plate contact hold_while_pushing (the core holds a particle only when it "
-                    "would pass the plate)");
-  }
-  hw.plate_contact = PlateContact::kPenetration;
   if (hw.topology.enabled) notes.push_back("topology-maintenance forces");
   if (hw.volume.enabled) notes.push_back("volume-preserving forces");
   hw.topology.enabled = false;
@@ -282,6 +277,7 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
   }
   img.globals.floor_enable = model.floor;
   img.globals.plate_enable = true;
+  img.globals.plate_hold = model.plate_contact == PlateContact::kHoldWhilePushing;
   img.globals.plate_z = 0;
   img.particles.resize(np);
   for (int i = 0; i < np; ++i) {
@@ -385,7 +381,8 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
        std::uint32_t(img.globals.g[1]),
        std::uint32_t(img.globals.g[2]),
        (img.globals.floor_enable ? frame::kControlFloor : 0u) |
-           (img.globals.plate_enable ? frame::kControlPlate : 0u)};
+           (img.globals.plate_enable ? frame::kControlPlate : 0u) |
+           (img.globals.plate_hold ? frame::kControlPlateHold : 0u)};
   write_command(out, frame::kRegionGlobals, 0, w);
   w.clear();
   for (const auto& q : img.particles) {

@@ -1,7 +1,7 @@
 #include "host/driver/device.hpp"
 
 #include "hls/fixed_format.hpp"
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::driver {

@@ -61,7 +61,7 @@ class FixedBackend final : public Backend {
             {"force_unit_N", image_.units.force_N}};
   }
   double step(double plate_z_m) override {
-    mem_->globals.plate_z = driver::to_x_word(plate_z_m, image_, "plate height");
+    hls::start_step(mem_->globals, driver::to_x_word(plate_z_m, image_, "plate height"));
     const std::int64_t force = hls::core_step<Fmt>(*mem_);
     if (mem_->status != 0) {
       std::ostringstream os;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "sim/edge_kernel.hpp"
@@ -29,6 +30,7 @@ class SieLoop {
     const int n = model.num_particles();
     x_.resize(n);
     v_.assign(n, V{Real(0), Real(0), Real(0)});
+    held_.assign(n, 0);
     f_.resize(n);
     for (int i = 0; i < n; ++i) {
       for (int c = 0; c < 3; ++c) x_[i][c] = static_cast<Real>(model.x0[i][c]);
@@ -78,12 +80,21 @@ class SieLoop {
         x_[i][2] = Real(0);
         if (v_[i][2] < Real(0)) v_[i][2] = Real(0);
       }
-      if (flag == kPlate && x_[i][2] > plate_z) {
+      if (flag != kPlate) continue;
+      const Real plate_velocity = (plate_z - z_start) / dt_;
+      if (x_[i][2] > plate_z) {
         x_[i][2] = plate_z;
-        const Real limit = (plate_z - z_start) / dt_;
-        if (v_[i][2] > limit) v_[i][2] = limit;
-        plate_force += f_[i][2];
+        if (v_[i][2] > plate_velocity) v_[i][2] = plate_velocity;
+      } else if (held_[i] && f_[i][2] > Real(0) &&
+                 model_.plate_contact == PlateContact::kHoldWhilePushing) {
+        x_[i][2] = plate_z;
+        v_[i][2] = plate_velocity;
+      } else {
+        held_[i] = 0;
+        continue;
       }
+      held_[i] = 1;
+      plate_force += f_[i][2];
     }
     for (int k = 0; k < model_.num_edges(); ++k) {
       const EdgeMaterial& m = model_.materials[model_.edges[k].material];
@@ -99,6 +110,7 @@ class SieLoop {
   Real dt_;
   std::vector<V> x_, v_, f_;
   std::vector<Real> d_, m_, ddot_, length_;
+  std::vector<std::uint8_t> held_;  // held by the plate in the previous step
 };
 
 }  // namespace rheo::fixedcmp

@@ -1,5 +1,5 @@
 // The RTL MPM (rtl/rheo_mpm.sv, verilated alone) against the bit-true mpm_particle on
-// random particles fed one per clock: every output word (x, p, plate force), the
+// random particles fed one per clock (hold while pushing on and off): every output word (x, p, plate force), the
 // saturation flag, the index and the valid timing must be equal.
 #include <gtest/gtest.h>
 
@@ -36,6 +36,7 @@ struct Expected {
 
 struct Coverage {
   int checked = 0, saturated = 0, held = 0, floored = 0, fixed = 0, left_shift = 0;
+  int kept = 0;  // held in the previous step and pushing, with hold-while-pushing on
   int rounds_out = 0;  // minv f rounds to exactly 2^31: the rounding leaves the word
   int rounds_to_min = 0;  // minv f rounds to exactly -2^31 from below: the word's end
 };
@@ -96,6 +97,8 @@ class RtlMpmTest : public ::testing::Test {
     mpm_->plate_z_i = std::uint32_t(g.plate_z);
     mpm_->plate_en_i = g.plate_enable;
     mpm_->floor_en_i = g.floor_enable;
+    mpm_->hold_en_i = g.plate_hold && g.plate_prev_valid;
+    mpm_->plate_prev_i = std::uint32_t(g.plate_z_prev);
   }
 
   // Presents one particle (computing what the bit-true MPM makes of it) or a bubble.
@@ -148,6 +151,9 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
     g.plate_z = word(unit(rng) < 0.1, pos(rng));
     g.plate_enable = unit(rng) < 0.7;
     g.floor_enable = unit(rng) < 0.7;
+    g.plate_hold = unit(rng) < 0.5;
+    g.plate_prev_valid = unit(rng) < 0.8;
+    g.plate_z_prev = word(unit(rng) < 0.1, pos(rng));
     set_globals(g);
     for (int n = 0; n < kParticlesPerPass; ++n) {
       if (unit(rng) < 0.05) {  // a few bubbles
@@ -184,6 +190,9 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
         cov_.rounds_out += dp == i128(1) << 31;
         cov_.rounds_to_min += dp == -(i128(1) << 31) && s > 0 && prod < dp << s;
       }
+      // A third of the particles sit at the previous plate height (held in the previous
+      // step, if they are plate particles).
+      if (unit(rng) < 0.3) q.x[2] = g.plate_z_prev;
       const double kind = unit(rng);
       q.flags = kind < 0.15 ? kCoreFixed
                 : kind < 0.5 ? kCorePlate
@@ -193,6 +202,9 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
       const Expected& e = pending_.back();
       cov_.fixed += (q.flags & kCoreFixed) != 0;
       cov_.held += e.plate_force != 0;
+      cov_.kept += q.flags == kCorePlate && g.plate_enable && g.plate_hold &&
+                   g.plate_prev_valid && q.x[2] == g.plate_z_prev && f[2] > 0 &&
+                   e.out.x[2] == g.plate_z;
       cov_.floored += !(q.flags & kCoreFixed) && g.floor_enable && e.out.x[2] == 0;
       clock();
       if (HasFatalFailure()) return;
@@ -208,6 +220,7 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
   EXPECT_GT(cov_.checked, kPasses * kParticlesPerPass * 9 / 10);
   EXPECT_GT(cov_.saturated, 0) << "the extreme words should reach the saturation paths";
   EXPECT_GT(cov_.held, 1000) << "plate particles above an enabled plate";
+  EXPECT_GT(cov_.kept, 1000) << "plate particles kept because they push (hold while pushing)";
   EXPECT_GT(cov_.floored, 1000) << "free particles below an enabled floor";
   EXPECT_GT(cov_.fixed, 1000);
   EXPECT_GT(cov_.left_shift, 100) << "coefficient words whose product shifts left";

@@ -1,5 +1,5 @@
 // rtl/rheo_consts_pkg.sv is generated from hls/fixed_format.hpp and
-// host/driver/frame_format.hpp: the checked-in copy must equal the generator's output, so
+// hls/frame_format.hpp: the checked-in copy must equal the generator's output, so
 // RTL, bit-true model and host cannot disagree on a width, binary point or opcode.
 #include <gtest/gtest.h>
 

@@ -9,7 +9,7 @@
 #include "host/driver/bittrue_transport.hpp"
 #include "host/driver/cosim.hpp"
 #include "host/driver/device.hpp"
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "host/driver/verilator_transport.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"

@@ -15,7 +15,7 @@
 
 #include "host/driver/bittrue_transport.hpp"
 #include "host/driver/device.hpp"
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "host/driver/link/backend_run.hpp"
 #include "host/driver/link/cosim_server.hpp"
 #include "host/driver/link/device_factory.hpp"

@@ -3,7 +3,7 @@
 #include <array>
 #include <cstdio>
 
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "host/driver/link/link_error.hpp"
 
 namespace rheo::link {

@@ -1,4 +1,4 @@
-// Link framing: how the core's 32-bit command and response words (host/driver/frame_format.hpp)
+// Link framing: how the core's 32-bit command and response words (hls/frame_format.hpp)
 // travel over a byte stream (Unix socket to the cosimulation server today, a board link later).
 // This layer knows nothing about the words' meaning; it only delimits, numbers and checks them.
 //

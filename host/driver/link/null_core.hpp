@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "host/driver/link/frame_channel.hpp"
 #include "host/driver/transport.hpp"
 #include "sim/error.hpp"

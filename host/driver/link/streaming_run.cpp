@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "host/driver/device.hpp"
-#include "host/driver/frame_format.hpp"
+#include "hls/frame_format.hpp"
 #include "host/driver/link/link_error.hpp"
 #include "sim/error.hpp"
 

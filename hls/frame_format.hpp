@@ -45,12 +45,16 @@ enum GlobalRegister : std::uint32_t {
   kGlobalGravityX = 2,  // P format, displacement per step^2
   kGlobalGravityY = 3,
   kGlobalGravityZ = 4,
-  kGlobalControl = 5,  // bit 0 floor enable, bit 1 plate enable
+  kGlobalControl = 5,  // kControl* bits; a write also forgets which particles the plate held
   kNumGlobals = 6,
 };
 
 inline constexpr std::uint32_t kControlFloor = 1u << 0;
 inline constexpr std::uint32_t kControlPlate = 1u << 1;
+// The plate keeps a particle it held in the previous step while the particle pushes against
+// it (rheo::PlateContact::kHoldWhilePushing); without it the plate holds a particle only
+// when its update would pass the plate (kPenetration).
+inline constexpr std::uint32_t kControlPlateHold = 1u << 2;
 inline constexpr std::uint32_t kStatusWords = 4;
 inline constexpr std::uint32_t kStatusClear = 1u << 0;
 
