@@ -71,6 +71,10 @@ std::vector<std::int32_t> Device::read_voigt_lengths(int first, int count) {
   return read_region(frame::kRegionEdgeLength, first, count);
 }
 
+std::vector<std::int32_t> Device::read_arm_extensions(int first, int count) {
+  return read_region(frame::kRegionEdgeArm, first, count);
+}
+
 CoreStatus Device::read_status(bool clear) {
   transport_->send(
       {frame::header(frame::kOpStatus, frame::kRegionGlobals, clear ? frame::kStatusClear : 0u)});

@@ -10,12 +10,14 @@
 #include "hls/fixed_format.hpp"
 #include "hls/rheo_kernel.hpp"
 #include "host/driver/core_image.hpp"
-#include "host/fixedcmp/float_simulator.hpp"
+#include "host/backend/float_simulator.hpp"
 #include "sim/error.hpp"
 #include "sim/simulator.hpp"
 
 namespace rheo::fixedcmp {
 namespace {
+
+using backend::SieLoop;
 
 using nlohmann::json;
 

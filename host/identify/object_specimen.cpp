@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 
+#include "host/backend/backend.hpp"
 #include "sim/error.hpp"
 #include "sim/mesh.hpp"
 #include "sim/relaxation_spectrum.hpp"
@@ -137,6 +138,12 @@ StepPlan step_plan(const Measurement& protocol, const SpecimenParams& p,
 
 Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
                            const SimulationOptions& o) {
+  const std::unique_ptr<backend::Backend> reference = backend::make_backend("ref");
+  return simulate_object(protocol, p, o, *reference);
+}
+
+Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
+                           const SimulationOptions& o, backend::Backend& engine) {
   const StepPlan plan = step_plan(protocol, p, o);
   if (!(plan.steps <= static_cast<double>(o.max_object_steps))) {
     std::ostringstream msg;
@@ -147,21 +154,25 @@ Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
   }
   // The masses belong to the step (see object_specimen.hpp): when the step changes, the
   // simulation continues from the same state with the masses of the new step.
-  std::unique_ptr<Simulator> sim;
+  double loaded_dt = 0.0;
+  Model model;
   auto start = [&](double dt) {
-    SimOptions so;
-    so.dt = dt;
-    auto next = std::make_unique<Simulator>(object_model(protocol.geometry, p, o.mesh, dt), so);
-    if (sim) next->mutable_state() = sim->state();
-    sim = std::move(next);
+    const bool first = loaded_dt == 0.0;
+    model = object_model(protocol.geometry, p, o.mesh, dt);
+    engine.load(model, first ? initial_state(model) : engine.state(), dt);
+    loaded_dt = dt;
   };
   start(plan.dt.front());
-  const Model& model = sim->model();
   std::vector<int> top;
   for (int i = 0; i < model.num_particles(); ++i) {
     if (model.flags[i] == kPlate) top.push_back(i);
   }
   const double h = model.height;
+  auto surface_of = [&](const State& st) {
+    double z = 0.0;
+    for (int i : top) z += st.x[i].z();
+    return (h - z / static_cast<double>(top.size())) * 1e3;
+  };
 
   Prediction out;
   const std::size_t n = protocol.size();
@@ -181,27 +192,43 @@ Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
     out.contact[next] = false;
     ++next;
   }
+  std::vector<double> plate_z;
   while (next < n) {
     const double dt = plan.dt[next];
-    if (dt != sim->options().dt) start(dt);
-    const double t_next = t + dt;
-    const StepReport r = sim->step(h - plate.at(t_next));
-    sensor_prev = sensor;
+    if (dt != loaded_dt) start(dt);
+    // The steps up to the one that reaches the next sample, run as one batch.
+    plate_z.clear();
+    double t_end = t;
+    do {
+      t_end += dt;
+      plate_z.push_back(h - plate.at(t_end));
+    } while (!(protocol.time_s[next] <= t_end + 1e-9 * dt));
+    const double gain = p.lag_s > 0.0 ? 1.0 - std::exp(-dt / p.lag_s) : 1.0;
+    std::vector<double> force;
+    if (plate_z.size() > 1) {
+      force = engine.run(std::span<const double>(plate_z).first(plate_z.size() - 1));
+      surface = surface_of(engine.state());
+    }
+    const std::vector<double> last = engine.run(std::span<const double>(plate_z).last(1));
+    force.push_back(last.front());
+    for (std::size_t k = 0; k < force.size(); ++k) {
+      sensor_prev = sensor;
+      sensor += (force[k] - sensor) * gain;
+    }
     surface_prev = surface;
-    sensor += (r.plate_force_N - sensor) * (p.lag_s > 0.0 ? 1.0 - std::exp(-dt / p.lag_s) : 1.0);
-    double z = 0.0;
-    for (int i : top) z += sim->state().x[i].z();
-    surface = (h - z / static_cast<double>(top.size())) * 1e3;
-    contact = r.contacts > 0;
+    surface = surface_of(engine.state());
+    // The plate force is exactly 0 N when the plate holds no particle.
+    contact = force.back() != 0.0;
+    const double t_prev = t_end - dt;
     // Samples between the last step and this one: linear in time between the two.
-    while (next < n && protocol.time_s[next] <= t_next + 1e-9 * dt) {
-      const double w = std::clamp((protocol.time_s[next] - t) / dt, 0.0, 1.0);
+    while (next < n && protocol.time_s[next] <= t_end + 1e-9 * dt) {
+      const double w = std::clamp((protocol.time_s[next] - t_prev) / dt, 0.0, 1.0);
       out.force_N[next] = sensor_prev + w * (sensor - sensor_prev) + p.offset_N;
       out.surface_mm[next] = surface_prev + w * (surface - surface_prev);
       out.contact[next] = contact;
       ++next;
     }
-    t = t_next;
+    t = t_end;
   }
   return out;
 }

@@ -25,6 +25,7 @@
 // every switch of the protocol.
 #pragma once
 
+#include "host/backend/backend.hpp"
 #include "host/identify/measurement.hpp"
 #include "host/identify/specimen.hpp"
 #include "sim/model.hpp"
@@ -46,7 +47,11 @@ struct StepPlan {
 StepPlan step_plan(const Measurement& protocol, const SpecimenParams& p,
                    const SimulationOptions& options);
 
+// On the reference model (the fits), or on any backend (driven through backend::Backend,
+// e.g. to check the fitted model on the fixed-point core).
 Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
                            const SimulationOptions& options);
+Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
+                           const SimulationOptions& options, backend::Backend& engine);
 
 }  // namespace rheo::identify

@@ -375,9 +375,9 @@ namespace {
 
 TEST(DeviceFactory, BitTrueBackendRunsLikeTheInProcessDevice) {
   const Workload& w = workload();
-  BackendOptions options;
+  DeviceOptions options;
   options.lanes = kLanes;
-  Backend backend = make_device("bittrue", options);
+  OpenedDevice backend = make_device("bittrue", options);
   EXPECT_EQ(backend.lanes, kLanes);
   backend.device->load(w.image);
   driver::Device local(std::make_unique<driver::BitTrueTransport>(kLanes));
@@ -402,7 +402,7 @@ TEST(DeviceFactory, RefusesRefAndUnknownBackendsNamingTheAcceptedValues) {
 }
 
 TEST(DeviceFactory, RemoteBackendWithoutAServerFailsWithinTheTimeout) {
-  BackendOptions options;
+  DeviceOptions options;
   options.timeout = kShortTimeout;
   try {
     make_device("remote:/tmp/rheo-link-test-no-such-dir/none.sock", options);
@@ -575,7 +575,7 @@ TEST(ServerBusy, FurtherHostsAreToldBusyWithinASecondWhileASilentHostHoldsTheSer
   std::vector<std::thread> hosts;
   for (int i = 0; i < kHosts; ++i) {
     hosts.emplace_back([&server, &outcome = outcomes[i]] {
-      BackendOptions options;
+      DeviceOptions options;
       options.lanes = kLanes;
       options.timeout = kTestTimeout;  // a timeout would take this long: busy must come sooner
       const auto t0 = Clock::now();

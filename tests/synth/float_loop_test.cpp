@@ -4,13 +4,15 @@
 #include <gtest/gtest.h>
 
 #include "host/driver/core_image.hpp"
-#include "host/fixedcmp/float_simulator.hpp"
+#include "host/backend/float_simulator.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
 
 namespace rheo::fixedcmp {
 namespace {
+
+using backend::SieLoop;
 
 // Steps long enough for plate contact, hold and edge clamping to matter.
 constexpr int kSteps = 400;

@@ -9,10 +9,10 @@ namespace rheo::link {
 BackendRunSummary run_scenario_on_backend(const Scenario& scenario,
                                           const BackendRunOptions& options,
                                           const BackendRunCallbacks& callbacks) {
-  BackendOptions backend_options;
+  DeviceOptions backend_options;
   backend_options.lanes = options.lanes;
   backend_options.timeout = options.timeout;
-  Backend backend = make_device(options.backend, backend_options);
+  OpenedDevice backend = make_device(options.backend, backend_options);
   const Model model = scenario.build_model();
   const double dt = scenario.options.dt;
   const driver::CoreImage image =

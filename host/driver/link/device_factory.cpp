@@ -17,16 +17,17 @@ bool is_device_backend(const std::string& backend) {
          (backend.starts_with(kRemotePrefix) && backend.size() > kRemotePrefix.size());
 }
 
-Backend make_device(const std::string& backend, const BackendOptions& options) {
-  Backend out;
+OpenedDevice make_device(const std::string& backend, const DeviceOptions& options) {
+  OpenedDevice out;
   if (backend == "bittrue") {
     out.device =
-        std::make_unique<driver::Device>(std::make_unique<driver::BitTrueTransport>(options.lanes));
+        std::make_unique<driver::Device>(std::make_unique<driver::BitTrueTransport>(options.lanes, options.maxwell_arm));
     out.lanes = options.lanes;
   } else if (backend == "rtl") {
 #ifdef RHEO_HAVE_RTL
     driver::VerilatorOptions vo;
     vo.lanes = options.lanes;
+    vo.maxwell_arm = options.maxwell_arm;
     vo.trace_fst = options.trace_fst;
     out.device = std::make_unique<driver::Device>(std::make_unique<driver::VerilatorTransport>(vo));
     out.lanes = options.lanes;

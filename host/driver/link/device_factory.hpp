@@ -15,20 +15,21 @@
 
 namespace rheo::link {
 
-struct BackendOptions {
+struct DeviceOptions {
   int lanes = 1;          // in-process cores; a remote core reports its own
+  bool maxwell_arm = false;  // in-process cores: the variant with the parallel Maxwell arm
   std::string trace_fst;  // rtl only
   Milliseconds timeout{10000};
 };
 
-struct Backend {
+struct OpenedDevice {
   std::unique_ptr<driver::Device> device;
   int lanes = 1;  // lanes of the core behind the device (build the image for these)
   std::string name;
 };
 
 // Throws rheo::Error for an unknown backend, naming the accepted values.
-Backend make_device(const std::string& backend, const BackendOptions& options = {});
+OpenedDevice make_device(const std::string& backend, const DeviceOptions& options = {});
 bool is_device_backend(const std::string& backend);
 
 }  // namespace rheo::link

@@ -14,7 +14,7 @@
 #include "sim/error.hpp"
 #include "sim/model.hpp"
 
-namespace rheo::fixedcmp {
+namespace rheo::backend {
 
 template <typename Real>
 class SieLoop {
@@ -105,6 +105,42 @@ class SieLoop {
 
   double position(int i, int c) const { return static_cast<double>(x_[i][c]); }
 
+  // Continues from `s` (positions, velocities, Voigt lengths, arm extensions); the plate
+  // holds no particle until the next step.
+  void set_state(const State& s) {
+    const int n = model_.num_particles();
+    const int ne = model_.num_edges();
+    if (static_cast<int>(s.x.size()) != n || static_cast<int>(s.v.size()) != n ||
+        static_cast<int>(s.d.size()) != ne) {
+      throw Error("float loop: the state does not match the model's particles and edges");
+    }
+    for (int i = 0; i < n; ++i) {
+      for (int c = 0; c < 3; ++c) {
+        x_[i][c] = static_cast<Real>(s.x[i][c]);
+        v_[i][c] = static_cast<Real>(s.v[i][c]);
+      }
+    }
+    for (int k = 0; k < ne; ++k) {
+      d_[k] = static_cast<Real>(s.d[k]);
+      m_[k] = k < static_cast<int>(s.m.size()) ? static_cast<Real>(s.m[k]) : Real(0);
+    }
+    held_.assign(n, 0);
+  }
+
+  // The state in double (t is the caller's).
+  State state() const {
+    State s;
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+      s.x.emplace_back(double(x_[i][0]), double(x_[i][1]), double(x_[i][2]));
+      s.v.emplace_back(double(v_[i][0]), double(v_[i][1]), double(v_[i][2]));
+    }
+    for (std::size_t k = 0; k < d_.size(); ++k) {
+      s.d.push_back(double(d_[k]));
+      s.m.push_back(double(m_[k]));
+    }
+    return s;
+  }
+
  private:
   const Model& model_;
   Real dt_;
@@ -113,4 +149,4 @@ class SieLoop {
   std::vector<std::uint8_t> held_;  // held by the plate in the previous step
 };
 
-}  // namespace rheo::fixedcmp
+}  // namespace rheo::backend

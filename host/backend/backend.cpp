@@ -1,0 +1,49 @@
+#include "host/backend/backend.hpp"
+
+#include "sim/error.hpp"
+
+namespace rheo::backend {
+
+const std::vector<Registration>& registry() {
+  // The device factory takes the spec itself (it knows bittrue, rtl and remote:PATH).
+  static const std::vector<Registration> kRegistry = {
+      {"ref", false, "the double-precision reference model (rheo::Simulator)",
+       make_reference_backend},
+      {"float", false, "the hardware's model stepped in single precision", make_float_backend},
+      {"bittrue", false, "the bit-true fixed-point core (hls/rheo_kernel.hpp), in process",
+       [](const std::string&, const Options& o) { return make_device_backend("bittrue", o); }},
+      {"rtl", false, "the verilated RTL core, in process (builds with RHEO_WITH_RTL)",
+       [](const std::string&, const Options& o) { return make_device_backend("rtl", o); }},
+      {"remote", true, "the RTL core of `rheo cosim-server --socket PATH`, over the link",
+       [](const std::string& path, const Options& o) {
+         return make_device_backend("remote:" + path, o);
+       }},
+  };
+  return kRegistry;
+}
+
+std::string backend_names() {
+  std::string out;
+  const auto& r = registry();
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (i > 0) out += i + 1 == r.size() ? " or " : ", ";
+    out += r[i].name + (r[i].takes_argument ? ":PATH" : "");
+  }
+  return out;
+}
+
+std::unique_ptr<Backend> make_backend(const std::string& spec, const Options& options) {
+  for (const Registration& r : registry()) {
+    if (r.takes_argument) {
+      const std::string prefix = r.name + ":";
+      if (spec.size() > prefix.size() && spec.starts_with(prefix)) {
+        return r.make(spec.substr(prefix.size()), options);
+      }
+    } else if (spec == r.name) {
+      return r.make("", options);
+    }
+  }
+  throw Error("backend '" + spec + "': expected " + backend_names());
+}
+
+}  // namespace rheo::backend

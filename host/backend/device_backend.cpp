@@ -1,0 +1,118 @@
+// The fixed-point cores behind the Backend interface: the bit-true model, the verilated
+// RTL and a remote core, all driven through driver::Device with the frames of the core's
+// stream format. The model is converted by driver::hardware_model (features the core lacks
+// are listed, never silently dropped) and driver::make_core_image; the core variant with
+// the parallel Maxwell arm is chosen when the model has an arm.
+#include <algorithm>
+#include <memory>
+
+#include "host/backend/backend.hpp"
+#include "host/driver/core_image.hpp"
+#include "host/driver/device.hpp"
+#include "host/driver/link/device_factory.hpp"
+#include "sim/error.hpp"
+
+namespace rheo::backend {
+namespace {
+
+class DeviceBackend : public Backend {
+ public:
+  DeviceBackend(std::string device, const Options& options)
+      : device_spec_(std::move(device)), options_(options) {}
+
+  std::string name() const override { return name_.empty() ? device_spec_ : name_; }
+
+  void load(const Model& model, const State& state, double dt) override {
+    const bool arm = std::any_of(model.materials.begin(), model.materials.end(),
+                                 [](const EdgeMaterial& m) { return m.has_maxwell_arm(); });
+    const Model hw = driver::hardware_model(model, &dropped_, arm);
+    if (!device_ || arm != arm_) {
+      link::DeviceOptions o;
+      o.lanes = options_.lanes;
+      o.maxwell_arm = arm;
+      o.trace_fst = options_.trace_fst;
+      o.timeout = options_.timeout;
+      link::OpenedDevice opened = link::make_device(device_spec_, o);
+      device_ = std::move(opened.device);
+      lanes_ = opened.lanes;
+      name_ = opened.name;
+      arm_ = arm;
+    }
+    image_ = driver::make_core_image(hw, state, dt, lanes_, driver::FormatDesc{}, arm);
+    device_->load(image_);
+    t_ = state.t;
+    dt_ = dt;
+  }
+
+  std::vector<double> run(std::span<const double> plate_z) override {
+    const driver::CoreImage& img = loaded();
+    std::vector<std::int32_t> words;
+    words.reserve(plate_z.size());
+    for (double z : plate_z) {
+      words.push_back(static_cast<std::int32_t>(driver::to_x_word(z, img, "plate height")));
+    }
+    const std::vector<std::int32_t> got = device_->run(words);
+    std::vector<double> force;
+    force.reserve(got.size());
+    for (std::int32_t w : got) force.push_back(driver::from_f_word(w, img));
+    t_ += dt_ * static_cast<double>(plate_z.size());
+    return force;
+  }
+
+  State state() override {
+    const driver::CoreImage& img = loaded();
+    State s;
+    s.t = t_;
+    const int n = img.num_particles;
+    const std::vector<std::int32_t> xp = device_->read_particle_state(0, n);
+    s.x.resize(n);
+    s.v.resize(n);
+    for (int i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        s.x[i][a] = driver::from_x_word(xp[6 * i + a], img);
+        s.v[i][a] = driver::from_p_word(xp[6 * i + 3 + a], img);
+      }
+    }
+    const int slots = static_cast<int>(img.edges.size());
+    const std::vector<std::int32_t> d = device_->read_voigt_lengths(0, slots);
+    const std::vector<std::int32_t> m =
+        arm_ ? device_->read_arm_extensions(0, slots) : std::vector<std::int32_t>{};
+    s.d.resize(img.num_edges);
+    s.m.assign(img.num_edges, 0.0);
+    for (int k = 0; k < img.num_edges; ++k) {
+      const int slot = img.edge_slot[k];
+      s.d[k] = driver::from_x_word(d[slot], img);
+      if (arm_) s.m[k] = driver::from_x_word(m[slot], img);
+    }
+    return s;
+  }
+
+  std::vector<std::string> dropped_features() const override { return dropped_; }
+
+ private:
+  const driver::CoreImage& loaded() const {
+    if (!device_) throw Error(device_spec_ + " backend: no model loaded");
+    return image_;
+  }
+
+  std::string device_spec_;
+  Options options_;
+  std::unique_ptr<driver::Device> device_;
+  driver::CoreImage image_;
+  std::vector<std::string> dropped_;
+  std::string name_;
+  int lanes_ = 1;
+  bool arm_ = false;
+  double t_ = 0.0, dt_ = 0.0;
+};
+
+}  // namespace
+
+std::unique_ptr<Backend> make_device_backend(const std::string& device, const Options& options) {
+  // Made now so that a wrong spec (rtl without Verilator, an unreachable socket) fails
+  // here, not at the first load.
+  if (!link::is_device_backend(device)) throw Error("backend '" + device + "': not a device");
+  return std::make_unique<DeviceBackend>(device, options);
+}
+
+}  // namespace rheo::backend
