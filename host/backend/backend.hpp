@@ -20,8 +20,8 @@
 namespace rheo::backend {
 
 struct Options {
-  int lanes = 1;              // in-process fixed-point cores (a remote core reports its own)
-  std::string trace_fst;      // rtl: FST waveform file (empty: none)
+  int lanes = 1;          // in-process fixed-point cores (a remote core reports its own)
+  std::string trace_fst;  // rtl: FST waveform file (empty: none)
   std::chrono::milliseconds timeout{10000};  // remote: per link transaction
 };
 

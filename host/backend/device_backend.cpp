@@ -109,8 +109,8 @@ class DeviceBackend : public Backend {
 }  // namespace
 
 std::unique_ptr<Backend> make_device_backend(const std::string& device, const Options& options) {
-  // Made now so that a wrong spec (rtl without Verilator, an unreachable socket) fails
-  // here, not at the first load.
+  // The core itself is opened at the first load (its variant follows the model); the
+  // name is checked here so that a misspelt one fails before any work.
   if (!link::is_device_backend(device)) throw Error("backend '" + device + "': not a device");
   return std::make_unique<DeviceBackend>(device, options);
 }

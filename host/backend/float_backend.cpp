@@ -30,8 +30,8 @@ class FloatBackend : public Backend {
     for (double z : plate_z) {
       const double f = loop_->step(z);
       t_ += dt_;
-      if (!std::isfinite(f)) throw Error("float backend: non-finite plate force at t = " +
-                                         std::to_string(t_) + " s");
+      if (!std::isfinite(f))
+        throw Error("float backend: non-finite plate force at t = " + std::to_string(t_) + " s");
       force.push_back(f);
     }
     return force;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "host/cli/backend_check_output.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/import_options.hpp"
@@ -24,15 +25,17 @@ void register_diagnose(CLI::App& app) {
     double max_dt = 0.1;
     std::string geometry, strain, as;
     SpecimenArgs specimen;
+    BackendCheckArgs check;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
       "diagnose",
       "Fit the baseline three-element model, analyse residuals by phase, fit each candidate "
-      "extension (" + identify::extension_names() +
+      "extension (" +
+          identify::extension_names() +
           "), pick by AIC confirmed on held-out data; writes "
           "DIR/diagnosis.json, DIR/report.md and plots. Input formats, diagnosis.json and the "
-      "cause vocabulary: docs/data-format.md.");
+          "cause vocabulary: docs/data-format.md.");
   cmd->add_option("files", args->files, "measurement files to fit")
       ->required()
       ->check(CLI::ExistingFile);
@@ -43,9 +46,11 @@ void register_diagnose(CLI::App& app) {
   add_max_dt_option(cmd, args->max_dt);
   add_import_options(cmd, args->geometry, args->strain, args->as);
   add_specimen_options(cmd, args->specimen);
+  add_backend_check_options(cmd, args->check);
   cmd->callback([args]() {
     using namespace rheo::identify;
     const ImportOptions import = import_options(args->geometry, args->strain, args->as);
+    const std::unique_ptr<backend::Backend> check_engine = open_check_backend(args->check);
     std::vector<Measurement> fit_data, holdout;
     for (const auto& f : args->files) fit_data.push_back(load_any(f, import));
     for (const auto& f : args->holdout) holdout.push_back(load_any(f, import));
@@ -76,21 +81,27 @@ void register_diagnose(CLI::App& app) {
     }
     progress.finish();
     write_diagnosis(out.path(), d, fit_data, holdout, options);
+    std::vector<const FitResult*> fits{&d.baseline};
+    if (d.chosen >= 0) fits.push_back(&d.extended());
+    const std::string check_error = run_backend_checks(check_engine.get(), args->check, fit_data,
+                                                       fits, options.fit.simulation, out.path());
     out.commit();
     const auto j = diagnosis_json(d);
     std::cout << "finding: " << j["finding"]["cause"].get<std::string>() << "\n"
               << "evidence: " << d.evidence << "\n"
               << "gain: holdout_rmse_ratio " << j["gain"]["holdout_rmse_ratio"].dump()
               << ", delta_aic " << j["gain"]["delta_aic"].dump() << "\n"
-              << (d.mesh_change ? "mesh check: force changes by " +
-                                      std::to_string(100.0 * *d.mesh_change) + " % on " +
-                                      d.finer_mesh + "\n"
-                                : std::string())
+              << (d.mesh_change
+                      ? "mesh check: force changes by " + std::to_string(100.0 * *d.mesh_change) +
+                            " % on " + d.finer_mesh + "\n"
+                      : std::string())
               << (d.remaining.empty() ? std::string() : "remaining: " + d.remaining + "\n")
               << unidentifiable_warnings(d.baseline)
               << (d.chosen < 0 ? std::string() : unidentifiable_warnings(d.extended()))
               << "diagnosis took " << d.seconds << " s; wrote " << out.target()
               << "/diagnosis.json and " << out.target() << "/report.md\n";
+    // The fit is kept (written above); the failed check still makes the command fail.
+    if (!check_error.empty()) throw Error(check_error);
   });
 }
 

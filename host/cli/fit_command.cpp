@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "host/cli/backend_check_output.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/cli/import_options.hpp"
@@ -23,6 +24,7 @@ void register_fit(CLI::App& app) {
     double max_dt = 0.1;
     std::string geometry, strain, as;
     SpecimenArgs specimen;
+    BackendCheckArgs check;
   };
   auto args = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand(
@@ -30,7 +32,8 @@ void register_fit(CLI::App& app) {
       "Fit the object model of the specimen (the project's particle model built from the "
       "file's geometry, run by the reference simulator under each file's plate_mm history; "
       "--model-form column for the fast 1-D first guess) to force_N (and surface_mm where "
-      "present) with Ceres; writes DIR/fit.json (values, 95 % intervals, bound and identifiability flags, "
+      "present) with Ceres; writes DIR/fit.json (values, 95 % intervals, bound and identifiability "
+      "flags, "
       "assumptions) and DIR/fit_*.png.\n"
       "Files: measurement CSV, relaxation-modulus tables, rheometer step-strain exports; the "
       "test type is recognised from the column names and units, flow curves, frequency sweeps "
@@ -44,9 +47,11 @@ void register_fit(CLI::App& app) {
   add_max_dt_option(cmd, args->max_dt);
   add_import_options(cmd, args->geometry, args->strain, args->as);
   add_specimen_options(cmd, args->specimen);
+  add_backend_check_options(cmd, args->check);
   cmd->callback([args]() {
     using namespace rheo::identify;
     const ImportOptions import = import_options(args->geometry, args->strain, args->as);
+    const std::unique_ptr<backend::Backend> check_engine = open_check_backend(args->check);
     std::vector<Measurement> data;
     for (const auto& f : args->files) data.push_back(load_any(f, import));
     for (const auto& m : data) std::cout << "input " << describe_import(m);
@@ -75,6 +80,8 @@ void register_fit(CLI::App& app) {
     }
     progress.finish();
     write_fit(out.path(), r, data, options);
+    const std::string check_error = run_backend_checks(check_engine.get(), args->check, data, {&r},
+                                                       options.simulation, out.path());
     out.commit();
     std::cout << "model " << spec.name() << ": rmse " << r.rmse_force_N << " N, AIC " << r.aic
               << "\n";
@@ -86,6 +93,8 @@ void register_fit(CLI::App& app) {
     }
     std::cout << unidentifiable_warnings(r);
     std::cout << "wrote " << out.target() << "/fit.json\n";
+    // The fit is kept (written above); the failed check still makes the command fail.
+    if (!check_error.empty()) throw Error(check_error);
   });
 }
 

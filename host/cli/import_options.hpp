@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "host/backend/backend.hpp"
+
 #include "host/identify/measurement.hpp"
 #include "host/identify/specimen.hpp"
 
@@ -39,6 +41,23 @@ struct SpecimenArgs {
   std::string form = "object";
   std::string mesh = "2d:auto";
 };
+
+// --backend/--lanes of fit and diagnose: where the fitted model is run again afterwards.
+struct BackendCheckArgs {
+  std::string backend = "ref";
+  int lanes = 1;
+};
+
+inline void add_backend_check_options(CLI::App* cmd, BackendCheckArgs& a) {
+  cmd->add_option("--backend", a.backend,
+                  "after the fit, run the fitted model(s) on this backend too and report the "
+                  "plate force against the reference (DIR/backend_check.json): " +
+                      backend::backend_names() + "; ref (the default) skips the check")
+      ->capture_default_str();
+  cmd->add_option("--lanes", a.lanes, "lanes of the in-process fixed-point core of --backend")
+      ->check(CLI::IsMember({1, 2, 4}))
+      ->capture_default_str();
+}
 
 inline void add_specimen_options(CLI::App* cmd, SpecimenArgs& a) {
   cmd->add_option("--model-form", a.form,

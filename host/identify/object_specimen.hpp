@@ -20,9 +20,9 @@
 // from the same state with the new step's masses. dt is the sample interval divided by
 // steps_per_sample (and at most 1/10 of the shortest relaxation time): with the default of
 // 10, inertia has faded within the first steps after a sample (measured: the forces of 10
-// and 160 steps per sample differ by 1 % in the first sample of a push, 0.03 % later). The plate holds a particle while the
-// object pushes against it (PlateContact::kHoldWhilePushing), so the force is continuous at
-// every switch of the protocol.
+// and 160 steps per sample differ by 1 % in the first sample of a push, 0.03 % later). The plate
+// holds a particle while the object pushes against it (PlateContact::kHoldWhilePushing), so the
+// force is continuous at every switch of the protocol.
 #pragma once
 
 #include "host/backend/backend.hpp"
