@@ -227,7 +227,7 @@ void Simulator::internal_forces(const State& s, std::vector<Vec3>& f, std::vecto
 
 void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
                                std::vector<double>& mdot, std::vector<double>& sdot,
-                               std::vector<double>* lengths) const {
+                               std::vector<double>* lengths, double arm_lead) const {
   const int n = model_.num_particles();
   const int ne = model_.num_edges();
   const int stride = spectrum_stride_;
@@ -246,7 +246,8 @@ void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector
     const std::size_t arms = static_cast<std::size_t>(k) * stride;
     const EdgeEval<double> r = evaluate_edge<double>(
         materials[e.material], x[e.s], x[e.e], v[e.s], v[e.e], s.d[k], e.L, e.l0, s.m[k],
-        stride > 0 ? s.spectrum.data() + arms : nullptr, stride > 0 ? sdot.data() + arms : nullptr);
+        stride > 0 ? s.spectrum.data() + arms : nullptr, stride > 0 ? sdot.data() + arms : nullptr,
+        arm_lead);
     const Vec3 pull = (r.tension / r.length) * (x[e.e] - x[e.s]);
     force[e.s] += pull;
     force[e.e] -= pull;
@@ -346,8 +347,8 @@ void Simulator::apply_contacts(int i, double z_start, double plate_z, double for
 }
 
 StepReport Simulator::step_sie(double plate_z) {
-  compute_forces(state_, force_, ddot_, mdot_, sdot_, &length_);
   const double dt = options_.dt;
+  compute_forces(state_, force_, ddot_, mdot_, sdot_, &length_, dt);
   const Vec3 g = model_.gravity;
   const bool external = !external_.empty();
   StepReport report;

@@ -50,7 +50,8 @@ class SieLoop {
     for (int k = 0; k < model_.num_edges(); ++k) {
       const Edge& e = model_.edges[k];
       const EdgeEval<Real> r = evaluate_edge<Real>(model_.materials[e.material], x_[e.s], x_[e.e],
-                                                   v_[e.s], v_[e.e], d_[k], e.L, e.l0, m_[k]);
+                                                   v_[e.s], v_[e.e], d_[k], e.L, e.l0, m_[k],
+                                                   nullptr, nullptr, double(dt_));
       const Real scale = r.tension / r.length;
       for (int c = 0; c < 3; ++c) {
         const Real pull = scale * (x_[e.e][c] - x_[e.s][c]);

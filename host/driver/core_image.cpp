@@ -245,7 +245,15 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     mc.alpha = encode_coef(m.k1 * dt / c, where + "alpha = k1 dt / (c1 + c2)", S::kAlpha);
     mc.beta = encode_coef(m.c2 / c, where + "beta = c2 / (c1 + c2)", S::kBeta);
     mc.kt = encode_coef(m.k1 * m.c2 / c * Lu / Fu, where + "kt = k1 c2 / (c1 + c2)", S::kKt);
-    mc.ct = encode_coef(m.c1 * m.c2 / (c * dt) * Lu / Fu, where + "ct = c1 c2 / ((c1 + c2) dt)",
+    // With the arm, the arm's spring acts with its extension after this step's update,
+    // m + dm = (1 - gamma) m + ldot (evaluate_edge's arm_lead, the reference's semi-implicit
+    // step): folded here as k2t (1 - gamma) on m and k2 added to the ldot coefficient, so
+    // the core's datapath is unchanged.
+    const bool arm = maxwell_arm && m.has_maxwell_arm();
+    const double gamma = arm ? m.k2 * dt / m.c3 : 0.0;
+    const double ct = m.c1 * m.c2 / (c * dt) + (arm ? m.k2 : 0.0);
+    mc.ct = encode_coef(ct * Lu / Fu,
+                        where + (arm ? "ct = c1 c2 / ((c1 + c2) dt) + k2" : "ct = c1 c2 / ((c1 + c2) dt)"),
                         S::kCt);
     if (m.a_min > 0.0) {
       mc.a_min = encode_coef(m.a_min, where + "a_min", 0);
@@ -256,15 +264,16 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
       mc.a_max = encode_coef(m.a_max, where + "a_max", 0);
       mc.flags |= hls::kClampHighEnable;
     }
-    if (maxwell_arm && m.has_maxwell_arm()) {
-      // Per step the arm's extension decays by gamma m; its spring adds k2t m to T.
-      const double gamma = m.k2 * dt / m.c3;
+    if (arm) {
+      // Per step the arm's extension decays by gamma m; its spring adds
+      // k2 (m + dm) = k2 (1 - gamma) m + k2 ldot to T (the second term is in ct above).
       if (!(gamma < 1.0)) {
         throw Error(where + "gamma = k2 dt / c3 = " + str(gamma) +
                     " must be below 1 (the arm's relaxation time c3/k2 must exceed dt)");
       }
       mc.gamma = encode_coef(gamma, where + "gamma = k2 dt / c3", S::kGamma);
-      mc.k2t = encode_coef(m.k2 * Lu / Fu, where + "k2t = k2 (Maxwell arm spring)", S::kK2t);
+      mc.k2t = encode_coef(m.k2 * (1.0 - gamma) * Lu / Fu,
+                           where + "k2t = k2 (1 - gamma) (Maxwell arm spring)", S::kK2t);
     }
     img.materials.push_back(mc);
   }

@@ -40,11 +40,13 @@ TEST(ArmKernel, MatchesTheDoubleKernelWithArmOnRandomEdgesWithinTheQuantisationB
     ASSERT_EQ(status, 0u);
 
     const EdgeEval<double> ev =
-        evaluate_edge<double>(m, e.xs, e.xe, e.vs, e.ve, e.d, e.L, e.len, mx);
+        evaluate_edge<double>(m, e.xs, e.xe, e.vs, e.ve, e.d, e.L, e.len, mx, nullptr, nullptr,
+                              dt);  // the semi-implicit step's arm (evaluate_edge)
     const Eigen::Vector3d u = (e.xe - e.xs) / e.len;
     const double dv = (e.ve - e.vs).norm();
     const double t_scale = std::fabs(m.k1 * m.c2 / (m.c1 + m.c2) * (e.d - e.L)) +
-                           std::fabs(m.c1 * m.c2 / (m.c1 + m.c2)) * dv + std::fabs(m.k2 * mx);
+                           std::fabs(m.c1 * m.c2 / (m.c1 + m.c2) + m.k2 * dt) * dv +
+                           std::fabs(m.k2 * mx);
     for (int a = 0; a < 3; ++a) {
       EXPECT_NEAR(std::ldexp(double(out.f[a]), -Fmt::kFracF), ev.tension * u[a],
                   kCoefRelBound * t_scale + kForceAbsBoundLsb * std::ldexp(1.0, -Fmt::kFracF))
@@ -140,7 +142,8 @@ TEST(ArmCoreImage, ArmCoreImageCarriesGammaAndK2AndKeepsTheFeature) {
   // The coefficient encoding is checked to 1e-3 relative (core_image.cpp).
   EXPECT_NEAR(driver::decode_coef(img.materials[0].gamma), m.k2 * dt / m.c3,
               1e-3 * m.k2 * dt / m.c3);
-  const double k2t = m.k2 * img.units.length_m / img.units.force_N;
+  // The arm's spring acts on m + dm: k2 (1 - gamma) on m, k2 added to ct (core_image.cpp).
+  const double k2t = m.k2 * (1.0 - m.k2 * dt / m.c3) * img.units.length_m / img.units.force_N;
   EXPECT_NEAR(driver::decode_coef(img.materials[0].k2t), k2t, 1e-3 * k2t);
   for (const std::string& f : img.dropped_features)
     EXPECT_EQ(f.find("Maxwell"), std::string::npos) << f;

@@ -37,7 +37,9 @@ inline MaterialCoefs encode(const EdgeMaterial& m, double dt) {
   mc.alpha = driver::encode_coef(m.k1 * dt / c, "alpha", S::kAlpha);
   mc.beta = driver::encode_coef(m.c2 / c, "beta", S::kBeta);
   mc.kt = driver::encode_coef(m.k1 * m.c2 / c, "kt", S::kKt);
-  mc.ct = driver::encode_coef(m.c1 * m.c2 / (c * dt), "ct", S::kCt);
+  // With the arm, its spring acts on m + dm (driver::make_core_image folds it the same way).
+  const double gamma = m.k2 > 0 ? m.k2 * dt / m.c3 : 0.0;
+  mc.ct = driver::encode_coef(m.c1 * m.c2 / (c * dt) + m.k2, "ct", S::kCt);
   if (m.a_min > 0) {
     mc.a_min = driver::encode_coef(m.a_min, "a_min", 0);
     mc.flags |= kClampLowEnable;
@@ -47,8 +49,8 @@ inline MaterialCoefs encode(const EdgeMaterial& m, double dt) {
     mc.flags |= kClampHighEnable;
   }
   if (m.k2 > 0) {
-    mc.gamma = driver::encode_coef(m.k2 * dt / m.c3, "gamma", S::kGamma);
-    mc.k2t = driver::encode_coef(m.k2, "k2t", S::kK2t);
+    mc.gamma = driver::encode_coef(gamma, "gamma", S::kGamma);
+    mc.k2t = driver::encode_coef(m.k2 * (1.0 - gamma), "k2t", S::kK2t);
   }
   return mc;
 }
