@@ -90,18 +90,23 @@ T series_viscosity(const EdgeMaterial& m, const T& f) {
 // length of the whole edge (for strain hardening), mx the Maxwell-arm extension.
 // With a relaxation spectrum, spectrum_s points at the material's spectrum_arms extension
 // states and spectrum_sdot receives their rates (both may be null without a spectrum).
-// arm_lead: the arms' springs act with their extensions advanced by arm_lead * rate.
-// 0 gives the differential equation's right-hand side (RK4, energies); the semi-implicit
-// Euler step passes dt, so the springs of the arms see the extension that goes with the
-// current positions, as the particle's own springs do. Without it an arm spring lags the
-// motion by one step, which is the explicit (not the symplectic) Euler step: its
-// oscillation grows by ~ dt^2 k2 / m per step and only the Voigt damping holds it, which
-// fails once dt is large against c1 / (k1 + k2) (mass-scaled models with long steps).
+// lead: the springs of the edge's internal states act with those states advanced by one
+// step of length `lead`. 0 gives the differential equation's right-hand side (RK4,
+// energies); the semi-implicit Euler step passes dt, so every spring sees the extension
+// that goes with the current positions, as the particles' own update does:
+//  - the Voigt spring acts on d + dt ddot, which makes the d update backward Euler for the
+//    current stretching rate: ddot = (c2 ldot - k1 (d - L)) / (c1 + c2 + k1 dt), and
+//    T = c2 (ldot - ddot) = k1 (d + dt ddot - L) + c1 ddot;
+//  - an arm spring acts on m + dt mdot (its update stays forward Euler: the hardware's).
+// Without the lead a spring lags the motion by one step, which is the explicit (not the
+// symplectic) Euler step for it: its oscillation grows by ~ dt^2 k / mass per step and only
+// the Voigt damper c1 holds it, which fails once dt is large against c1 / k (mass-scaled
+// models with long steps, docs/model.md).
 template <typename T, typename V>
 EdgeEval<T> evaluate_edge(const EdgeMaterial& m, const V& xs, const V& xe, const V& vs,
                           const V& ve, const T& d, double L, double l0, const T& mx,
                           const T* spectrum_s = nullptr, T* spectrum_sdot = nullptr,
-                          double arm_lead = 0.0) {
+                          double lead = 0.0) {
   using std::sqrt;
   T r[3], dv[3];
   for (int i = 0; i < 3; ++i) {
@@ -118,18 +123,18 @@ EdgeEval<T> evaluate_edge(const EdgeMaterial& m, const V& xs, const V& xe, const
   const T spring = k1 * (d - T(L));
   const T abs_spring = spring < T(0.0) ? -spring : spring;
   const T c2 = series_viscosity(m, abs_spring);
-  const T ddot = (c2 * ldot - spring) / (T(m.c1) + c2);
-  T tension = spring + T(m.c1) * ddot;
+  const T ddot = (c2 * ldot - spring) / (T(m.c1) + c2 + k1 * T(lead));
+  T tension = spring + (k1 * T(lead) + T(m.c1)) * ddot;
   T mdot = T(0.0);
   if (m.has_maxwell_arm()) {
     mdot = ldot - T(m.k2 / m.c3) * mx;
-    tension = tension + T(m.k2) * (mx + T(arm_lead) * mdot);
+    tension = tension + T(m.k2) * (mx + T(lead) * mdot);
   }
   if (spectrum_s != nullptr) {
     for (int j = 0; j < m.spectrum_arms; ++j) {
       const EdgeMaterial::Arm& a = m.spectrum[j];
       spectrum_sdot[j] = ldot - T(a.k / a.c) * spectrum_s[j];
-      tension = tension + T(a.k) * (spectrum_s[j] + T(arm_lead) * spectrum_sdot[j]);
+      tension = tension + T(a.k) * (spectrum_s[j] + T(lead) * spectrum_sdot[j]);
     }
   }
   return {tension, ddot, mdot, l, ldot};

@@ -227,7 +227,7 @@ void Simulator::internal_forces(const State& s, std::vector<Vec3>& f, std::vecto
 
 void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
                                std::vector<double>& mdot, std::vector<double>& sdot,
-                               std::vector<double>* lengths, double arm_lead) const {
+                               std::vector<double>* lengths, double lead) const {
   const int n = model_.num_particles();
   const int ne = model_.num_edges();
   const int stride = spectrum_stride_;
@@ -247,7 +247,7 @@ void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector
     const EdgeEval<double> r = evaluate_edge<double>(
         materials[e.material], x[e.s], x[e.e], v[e.s], v[e.e], s.d[k], e.L, e.l0, s.m[k],
         stride > 0 ? s.spectrum.data() + arms : nullptr, stride > 0 ? sdot.data() + arms : nullptr,
-        arm_lead);
+        lead);
     const Vec3 pull = (r.tension / r.length) * (x[e.e] - x[e.s]);
     force[e.s] += pull;
     force[e.e] -= pull;

@@ -109,11 +109,11 @@ class Simulator {
     double h0;
     double sign;
   };
-  // sdot receives the spectrum arms' rates, laid out like State::spectrum. arm_lead: see
+  // sdot receives the spectrum arms' rates, laid out like State::spectrum. lead: see
   // evaluate_edge (dt in the semi-implicit Euler step, 0 elsewhere).
   void compute_forces(const State& s, std::vector<Vec3>& f, std::vector<double>& ddot,
                       std::vector<double>& mdot, std::vector<double>& sdot,
-                      std::vector<double>* lengths, double arm_lead = 0.0) const;
+                      std::vector<double>* lengths, double lead = 0.0) const;
   void add_topology_forces(const State& s, std::vector<Vec3>& f) const;
   void add_volume_forces(const State& s, std::vector<Vec3>& f) const;
   double element_volume(const std::vector<Vec3>& x, std::size_t element) const;

@@ -238,22 +238,27 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
   for (std::size_t i = 0; i < model.materials.size(); ++i) {
     const EdgeMaterial& m = model.materials[i];
     const std::string where = "material " + std::to_string(i) + ": ";
-    const double c = m.c1 + m.c2;
-    if (!(c > 0.0)) throw Error(where + "c1 + c2 must be positive for the hardware edge");
+    // The Voigt spring acts on the updated d (evaluate_edge's lead, the reference's
+    // semi-implicit step): ddot = (c2 ldot - k1 ds) / c with c = c1 + c2 + k1 dt, and
+    // T = c2 (ldot - ddot) = k1 c2 / c ds + c2 (c1 + k1 dt) / c ldot.
+    const double c = m.c1 + m.c2 + m.k1 * dt;
+    if (!(m.c1 + m.c2 > 0.0)) throw Error(where + "c1 + c2 must be positive for the hardware edge");
     hls::MaterialCoefs mc;
     using S = hls::CoefShifts<hls::HardwareFormat>;
-    mc.alpha = encode_coef(m.k1 * dt / c, where + "alpha = k1 dt / (c1 + c2)", S::kAlpha);
-    mc.beta = encode_coef(m.c2 / c, where + "beta = c2 / (c1 + c2)", S::kBeta);
-    mc.kt = encode_coef(m.k1 * m.c2 / c * Lu / Fu, where + "kt = k1 c2 / (c1 + c2)", S::kKt);
+    mc.alpha = encode_coef(m.k1 * dt / c, where + "alpha = k1 dt / (c1 + c2 + k1 dt)", S::kAlpha);
+    mc.beta = encode_coef(m.c2 / c, where + "beta = c2 / (c1 + c2 + k1 dt)", S::kBeta);
+    mc.kt = encode_coef(m.k1 * m.c2 / c * Lu / Fu, where + "kt = k1 c2 / (c1 + c2 + k1 dt)",
+                        S::kKt);
     // With the arm, the arm's spring acts with its extension after this step's update,
     // m + dm = (1 - gamma) m + ldot (evaluate_edge's arm_lead, the reference's semi-implicit
     // step): folded here as k2t (1 - gamma) on m and k2 added to the ldot coefficient, so
     // the core's datapath is unchanged.
     const bool arm = maxwell_arm && m.has_maxwell_arm();
     const double gamma = arm ? m.k2 * dt / m.c3 : 0.0;
-    const double ct = m.c1 * m.c2 / (c * dt) + (arm ? m.k2 : 0.0);
+    const double ct = m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + (arm ? m.k2 : 0.0);
     mc.ct = encode_coef(ct * Lu / Fu,
-                        where + (arm ? "ct = c1 c2 / ((c1 + c2) dt) + k2" : "ct = c1 c2 / ((c1 + c2) dt)"),
+                        where + (arm ? "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt) + k2"
+                                     : "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt)"),
                         S::kCt);
     if (m.a_min > 0.0) {
       mc.a_min = encode_coef(m.a_min, where + "a_min", 0);

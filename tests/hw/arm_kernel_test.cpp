@@ -44,8 +44,9 @@ TEST(ArmKernel, MatchesTheDoubleKernelWithArmOnRandomEdgesWithinTheQuantisationB
                               dt);  // the semi-implicit step's arm (evaluate_edge)
     const Eigen::Vector3d u = (e.xe - e.xs) / e.len;
     const double dv = (e.ve - e.vs).norm();
-    const double t_scale = std::fabs(m.k1 * m.c2 / (m.c1 + m.c2) * (e.d - e.L)) +
-                           std::fabs(m.c1 * m.c2 / (m.c1 + m.c2) + m.k2 * dt) * dv +
+    const double c = m.c1 + m.c2 + m.k1 * dt;
+    const double t_scale = std::fabs(m.k1 * m.c2 / c * (e.d - e.L)) +
+                           std::fabs(m.c2 * (m.c1 + m.k1 * dt) / c + m.k2 * dt) * dv +
                            std::fabs(m.k2 * mx);
     for (int a = 0; a < 3; ++a) {
       EXPECT_NEAR(std::ldexp(double(out.f[a]), -Fmt::kFracF), ev.tension * u[a],

@@ -33,13 +33,13 @@ inline std::int64_t pw(double v) { return std::llround(std::ldexp(v, Fmt::kFracP
 // gamma and k2t only when the material has them).
 inline MaterialCoefs encode(const EdgeMaterial& m, double dt) {
   MaterialCoefs mc;
-  const double c = m.c1 + m.c2;
+  const double c = m.c1 + m.c2 + m.k1 * dt;  // the Voigt spring on the updated d
   mc.alpha = driver::encode_coef(m.k1 * dt / c, "alpha", S::kAlpha);
   mc.beta = driver::encode_coef(m.c2 / c, "beta", S::kBeta);
   mc.kt = driver::encode_coef(m.k1 * m.c2 / c, "kt", S::kKt);
   // With the arm, its spring acts on m + dm (driver::make_core_image folds it the same way).
   const double gamma = m.k2 > 0 ? m.k2 * dt / m.c3 : 0.0;
-  mc.ct = driver::encode_coef(m.c1 * m.c2 / (c * dt) + m.k2, "ct", S::kCt);
+  mc.ct = driver::encode_coef(m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + m.k2, "ct", S::kCt);
   if (m.a_min > 0) {
     mc.a_min = driver::encode_coef(m.a_min, "a_min", 0);
     mc.flags |= kClampLowEnable;

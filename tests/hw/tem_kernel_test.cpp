@@ -31,12 +31,14 @@ TEST(TemKernel, MatchesTheDoubleKernelOnRandomEdgesWithinTheQuantisationBound) {
     ASSERT_EQ(status, 0u);
 
     const EdgeEval<double> ev =
-        evaluate_edge<double>(m, e.xs, e.xe, e.vs, e.ve, e.d, e.L, e.len, 0.0);
+        evaluate_edge<double>(m, e.xs, e.xe, e.vs, e.ve, e.d, e.L, e.len, 0.0, nullptr, nullptr,
+                              dt);  // the semi-implicit step's edge (evaluate_edge's lead)
     const Eigen::Vector3d u = (e.xe - e.xs) / e.len;
     const double d_ref = clamp_voigt_length(m, e.d + dt * ev.ddot, ev.length);
-    const double c = m.c1 + m.c2;
+    const double c = m.c1 + m.c2 + m.k1 * dt;
     const double dv = (e.ve - e.vs).norm();
-    const double t_scale = std::fabs(m.k1 * m.c2 / c * (e.d - e.L)) + std::fabs(m.c1 * m.c2 / c) * dv;
+    const double t_scale =
+        std::fabs(m.k1 * m.c2 / c * (e.d - e.L)) + std::fabs(m.c2 * (m.c1 + m.k1 * dt) / c) * dv;
     for (int a = 0; a < 3; ++a) {
       const double f = std::ldexp(double(out.f[a]), -Fmt::kFracF);
       EXPECT_NEAR(f, ev.tension * u[a],
