@@ -12,7 +12,7 @@
 //     block-normalised to a mantissa and a shared exponent before they are multiplied)
 //     ldot = u . dp                          (length change per step)
 //     dd = beta * ldot - alpha * ds          (Voigt length change per step)
-//     T  = kt * ds + ct * ldot               (= k1 (d-L) + c1 ddot, folded)
+//     T  = kt * ds + ct * ldot               (= k1 (d + dd - L) + c1 ddot, folded)
 //     F_k = T * u;  d <- clamp(d + dd, a_min l, a_max l)
 //   with the parallel Maxwell arm (template flag MaxwellArm, RTL parameter of the same
 //   name), per edge state m (the arm spring's extension, X format):
