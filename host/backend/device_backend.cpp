@@ -39,7 +39,15 @@ class DeviceBackend : public Backend {
       arm_ = arm;
     }
     image_ = driver::make_core_image(hw, state, dt, lanes_, driver::FormatDesc{}, arm);
-    device_->load(image_);
+    try {
+      device_->load(image_);
+    } catch (const Error& e) {
+      // A remote core's variant is the server's choice; the usual cause of a refused image.
+      if (!arm || !device_spec_.starts_with("remote:")) throw;
+      throw Error(std::string(e.what()) +
+                  "; the model has a Maxwell arm: the server's core needs it too (rheo "
+                  "cosim-server --maxwell-arm)");
+    }
     t_ = state.t;
     dt_ = dt;
   }

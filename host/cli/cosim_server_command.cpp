@@ -37,6 +37,7 @@ struct CosimServerArgs {
   std::string socket;
   int lanes = hls::kDefaultLanes;
   std::string core = "rtl";
+  bool maxwell_arm = false;
   int timeout_ms = 10000;
   double idle_timeout_s = 60;
   bool quiet = false;
@@ -47,12 +48,15 @@ link::CoreFactory core_factory(const CosimServerArgs& args) {
     return [lanes = args.lanes] { return std::make_unique<link::NullCore>(lanes); };
   }
   if (args.core == "bittrue") {
-    return [lanes = args.lanes] { return std::make_unique<driver::BitTrueTransport>(lanes); };
+    return [lanes = args.lanes, arm = args.maxwell_arm] {
+      return std::make_unique<driver::BitTrueTransport>(lanes, arm);
+    };
   }
 #ifdef RHEO_HAVE_RTL
-  return [lanes = args.lanes] {
+  return [lanes = args.lanes, arm = args.maxwell_arm] {
     driver::VerilatorOptions options;
     options.lanes = lanes;
+    options.maxwell_arm = arm;
     return std::make_unique<driver::VerilatorTransport>(options);
   };
 #else
@@ -107,6 +111,9 @@ void register_cosim_server(CLI::App& app) {
                   "model, for link tests without Verilator) or null (answers with zeros "
                   "without computing: measures the link alone)")
       ->check(CLI::IsMember({"rtl", "bittrue", "null"}));
+  cmd->add_flag("--maxwell-arm", args->maxwell_arm,
+                "The core variant with the parallel Maxwell arm (four-element edges, e.g. a "
+                "fitted second_relaxation_time model; rtl: 1 lane only)");
   cmd->add_option("--timeout-ms", args->timeout_ms,
                   "Longest wait for a hello or for the rest of a begun frame")
       ->check(CLI::PositiveNumber);

@@ -9,11 +9,13 @@
 #include <string>
 
 #include "tests/cli/run_rheo.hpp"
+#include "tests/link/server_process.hpp"
 
 namespace {
 
 using rheo::testing_support::run_rheo;
 using rheo::testing_support::RunResult;
+using rheo::testing_support::ServerProcess;
 
 // The hardware format's plate-force error on the object models of the fits: measured
 // 1.4e-5 of the peak on the demo clay (docs/results.md); 1e-3 is the project's bound for
@@ -52,6 +54,30 @@ TEST(FitBackend, TheFittedFourElementModelRunsOnTheCoreWithinTheFixedPointError)
   EXPECT_GT(c["peak_force_N"].get<double>(), 1.0);
   EXPECT_LE(c["max_rel_diff"].get<double>(), kFixedPointBound) << c.dump(2);
   EXPECT_GT(c["max_abs_diff_N"].get<double>(), 0.0) << "a fixed-point core is not exact";
+}
+
+// The same through a core in another process (`rheo cosim-server`, the bit-true core so
+// that it runs in every build): the model's Maxwell arm needs the server's arm variant, and
+// a server without it is named as the cause.
+TEST(FitBackendRemote, TheFitRunsOnACosimServerWithTheArmAndAServerWithoutItIsNamed) {
+  const std::string fit = "fit " + std::string(RHEO_SOURCE_DIR) +
+                          "/data/clay_fast.csv --model second_relaxation_time -q --force ";
+  {
+    ServerProcess server({"--maxwell-arm"});
+    const auto dir = out_dir("remote");
+    const RunResult r =
+        run_rheo(fit + "--backend remote:" + server.socket() + " --out " + dir.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const nlohmann::json c = read_check(dir)["checks"][0];
+    EXPECT_NE(c["backend"].get<std::string>().find("cosim-server"), std::string::npos);
+    EXPECT_LE(c["max_rel_diff"].get<double>(), kFixedPointBound) << c.dump(2);
+  }
+  ServerProcess plain;
+  const auto dir = out_dir("remote_plain");
+  const RunResult r =
+      run_rheo(fit + "--backend remote:" + plain.socket() + " --out " + dir.string());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("cosim-server --maxwell-arm"), std::string::npos) << r.output;
 }
 
 // (What a core does not compute is listed: Backend.FeaturesACoreDoesNotComputeAreListed.)

@@ -24,6 +24,7 @@
 #include "host/driver/link/link_error.hpp"
 #include "host/driver/link/socket_transport.hpp"
 #include "tests/cli/run_rheo.hpp"
+#include "tests/link/server_process.hpp"
 
 extern char** environ;
 
@@ -33,40 +34,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using std::chrono::duration_cast;
 using testing_support::run_rheo;
+using testing_support::ServerProcess;
 
 // Starting a process and answering a hello on a loaded machine.
 constexpr Milliseconds kTimeout{10000};
-
-class ServerProcess {
- public:
-  explicit ServerProcess(const std::vector<std::string>& extra_args = {}) {
-    char dir_template[] = "/tmp/rheo-cosim-cli-XXXXXX";
-    if (!::mkdtemp(dir_template)) throw Error("mkdtemp failed");
-    dir_ = dir_template;
-    socket_ = dir_ + "/core.sock";
-    std::vector<std::string> args = {RHEO_BINARY, "cosim-server", "--socket", socket_,  "--core",
-                                     "bittrue",   "--lanes",      "2",        "--quiet"};
-    args.insert(args.end(), extra_args.begin(), extra_args.end());
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    if (::posix_spawn(&pid_, RHEO_BINARY, nullptr, nullptr, argv.data(), environ) != 0) {
-      throw Error("cannot start " + std::string(RHEO_BINARY));
-    }
-  }
-  ~ServerProcess() {
-    ::kill(pid_, SIGKILL);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    std::filesystem::remove_all(dir_);
-  }
-  const std::string& socket() const { return socket_; }
-  std::string dir() const { return dir_; }
-
- private:
-  std::string dir_, socket_;
-  pid_t pid_ = -1;
-};
 
 // A host that says hello and then nothing: holds the server's one session.
 struct SilentHost {
