@@ -25,6 +25,7 @@ struct FormatDesc {
 
 // The unit choice: lengths in length_m, forces in force_N, time in steps of dt_s.
 struct Units {
+  double extent_m = 8.0;  // the object's largest extent (length_m = extent_m / 8, core_image.cpp)
   double length_m = 1.0;
   double force_N = 1.0;
   double dt_s = 1e-4;
