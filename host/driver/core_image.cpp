@@ -220,7 +220,7 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
   }
   const double extent = (hi - lo).maxCoeff();
   if (!(extent > 0.0)) throw Error("model has zero extent: cannot choose a length unit");
-  img.units.extent_m = extent;
+  img.extent_m = extent;
   img.units.length_m = extent / kLengthUnitsPerObject;
   img.units.dt_s = dt;
   double k_max = 0.0, c_rate_max = 0.0;

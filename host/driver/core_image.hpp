@@ -25,7 +25,6 @@ struct FormatDesc {
 
 // The unit choice: lengths in length_m, forces in force_N, time in steps of dt_s.
 struct Units {
-  double extent_m = 8.0;  // the object's largest extent (length_m = extent_m / 8, core_image.cpp)
   double length_m = 1.0;
   double force_N = 1.0;
   double dt_s = 1e-4;
@@ -35,6 +34,7 @@ struct Units {
 struct CoreImage {
   FormatDesc format;
   Units units;
+  double extent_m = 0.0;  // the object's largest extent (units.length_m = extent_m / 8)
   int lanes = 1;
   int num_particles = 0;
   int num_edges = 0;                        // edges of the model

@@ -77,7 +77,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     SimOptions so = scenario.options;
     ref = std::make_unique<Simulator>(hardware_model(model, nullptr, opt.maxwell_arm), so);
   }
-  const double size = image.units.extent_m;
+  const double size = image.extent_m;
   double sq_sum = 0.0;
   long sq_count = 0;
   const int np = image.num_particles;
