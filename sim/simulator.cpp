@@ -157,23 +157,27 @@ double max_stable_dt(const Model& model, Integrator integrator) {
   return kStabilitySafety * bound;
 }
 
-Simulator::Simulator(Model model, SimOptions options)
-    : model_(std::move(model)), options_(options) {
-  validate(model_);
-  if (!std::isfinite(options_.dt) || options_.dt <= 0.0) {
-    throw Error("dt = " + std::to_string(options_.dt) + " s: expected a finite value > 0");
+void check_time_step(const Model& model, const SimOptions& options) {
+  if (!std::isfinite(options.dt) || options.dt <= 0.0) {
+    throw Error("dt = " + std::to_string(options.dt) + " s: expected a finite value > 0");
   }
-  if (options_.check_stability) {
-    const double safe = max_stable_dt(model_, options_.integrator);
-    if (options_.dt > safe) {
+  if (options.check_stability) {
+    const double safe = max_stable_dt(model, options.integrator);
+    if (options.dt > safe) {
       std::ostringstream os;
       os.precision(4);
-      os << "dt = " << options_.dt
+      os << "dt = " << options.dt
          << " s exceeds the explicit stability bound of this model; the largest safe dt is " << safe
          << " s";
       throw Error(os.str());
     }
   }
+}
+
+Simulator::Simulator(Model model, SimOptions options)
+    : model_(std::move(model)), options_(options) {
+  validate(model_);
+  check_time_step(model_, options_);
   state_ = initial_state(model_);
 
   const int nv = element_vertex_count(model_);

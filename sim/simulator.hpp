@@ -44,6 +44,9 @@ struct StepReport {
 // The result is multiplied by a safety factor of 0.9 (strain hardening and the coupling of
 // d with positions are not in the bound).
 double max_stable_dt(const Model& model, Integrator integrator);
+// Throws rheo::Error when options.dt is not a finite positive step or (with
+// options.check_stability) exceeds max_stable_dt: every backend refuses the same steps.
+void check_time_step(const Model& model, const SimOptions& options);
 
 // One semi-implicit Euler step (the rule the hardware copies exactly):
 //  1. From the current state: internal forces F_i (edges, topology maintenance, volume),

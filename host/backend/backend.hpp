@@ -15,7 +15,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "sim/model.hpp"
+#include "sim/simulator.hpp"
 
 namespace rheo::backend {
 
@@ -30,25 +33,45 @@ class Backend {
   virtual ~Backend() = default;
   // What runs, for reports: e.g. "reference (double)", "bit-true model".
   virtual std::string name() const = 0;
-  // Takes `model` in `state` for time step dt, replacing whatever ran before (a caller that
-  // changes the step continues with load(model, state(), new_dt)). Throws rheo::Error when
-  // the model does not fit the backend (fixed-point range, core memories).
-  virtual void load(const Model& model, const State& state, double dt) = 0;
+  // The arithmetic the numbers come from, the same for backends that give identical numbers
+  // (bit-true, RTL and remote): e.g. "double-precision reference model". Output files carry
+  // it, so that identical runs write identical files.
+  virtual std::string arithmetic() const = 0;
+  // Takes `model` in `state` with these step options, replacing whatever ran before (a
+  // caller that changes the step continues with load(model, state(), new_options)). Throws
+  // rheo::Error when the model does not fit the backend (fixed-point range, core memories)
+  // or the step is unstable (the reference checks options.check_stability). Options a
+  // backend cannot honour (the cores step semi-implicit Euler only) are named by
+  // dropped_features(), never silently replaced.
+  virtual void load(const Model& model, const State& state, const SimOptions& options) = 0;
+  // The same with the default integrator and step size dt.
+  void load(const Model& model, const State& state, double dt) {
+    SimOptions o;
+    o.dt = dt;
+    load(model, state, o);
+  }
   // One step per plate height [m]; the plate force [N] of each step. Throws rheo::Error on
   // numerical trouble (non-finite state, fixed-point overflow flags).
   virtual std::vector<double> run(std::span<const double> plate_z) = 0;
   // The state after the last step: positions, velocities, Voigt lengths and arm extensions
   // (what the backend holds; a relaxation spectrum only where it computes one).
   virtual State state() = 0;
+  // The state after the last step where the backend keeps it in host memory in double
+  // precision (the reference): no copy, no read-back. nullptr where state() has to convert
+  // or read it from a core; callers then read it only where they need it.
+  virtual const State* resident_state() const { return nullptr; }
   // Features of the loaded model this backend does not compute (empty: all of it).
   virtual std::vector<std::string> dropped_features() const = 0;
+  // What the backend is beyond its name, for reports (e.g. a fixed-point format's widths and
+  // units); empty where there is nothing to add.
+  virtual nlohmann::json describe() const { return nlohmann::json::object(); }
 };
 
 // The registry: a backend name, its help text and how it is made. `argument` is the text
-// after "name:" (remote:PATH), empty for the others.
+// after "name:" (remote:PATH, fixed:FORMAT), empty for the others.
 struct Registration {
   std::string name;
-  bool takes_argument = false;
+  std::string argument;  // what follows "name:", e.g. "PATH"; empty: no argument
   std::string help;
   std::function<std::unique_ptr<Backend>(const std::string& argument, const Options&)> make;
 };
@@ -57,12 +80,25 @@ const std::vector<Registration>& registry();
 // Makes the backend `spec` names ("ref", "float", "bittrue", "rtl", "remote:PATH"). Throws
 // rheo::Error for an unknown name, listing the accepted ones.
 std::unique_ptr<Backend> make_backend(const std::string& spec, const Options& options = {});
-// "ref, float, bittrue, rtl or remote:PATH", for help texts and errors.
+// "ref, float, bittrue, rtl, remote:PATH or fixed:FORMAT", for help texts and errors.
 std::string backend_names();
+
+// For backends that step the hardware's rule (semi-implicit Euler): checks the step of
+// `options` on `model` as the reference does (check_time_step) and names an integrator it
+// cannot honour in `dropped`.
+void check_hardware_step(const Model& model, const SimOptions& options,
+                         std::vector<std::string>& dropped);
 
 // The factories of the registry (one file each).
 std::unique_ptr<Backend> make_reference_backend(const std::string&, const Options&);
 std::unique_ptr<Backend> make_float_backend(const std::string&, const Options&);
 std::unique_ptr<Backend> make_device_backend(const std::string& device, const Options&);
+std::unique_ptr<Backend> make_fixed_format_backend(const std::string& format, const Options&);
+
+// The formats of make_fixed_format_backend: the fractional position widths of the sweep
+// (nearest or truncating rounding, full-width operands), and a format's spec text
+// ("fixed:q27_nearest_op18"; operand_bits 0 = full width).
+std::vector<int> fixed_sweep_frac_x();
+std::string fixed_format_spec(int frac_x, bool truncate, int operand_bits);
 
 }  // namespace rheo::backend

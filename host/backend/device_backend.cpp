@@ -21,11 +21,14 @@ class DeviceBackend : public Backend {
       : device_spec_(std::move(device)), options_(options) {}
 
   std::string name() const override { return name_.empty() ? device_spec_ : name_; }
+  std::string arithmetic() const override { return "fixed-point core: bittrue, rtl and remote give the same numbers"; }
 
-  void load(const Model& model, const State& state, double dt) override {
+  void load(const Model& model, const State& state, const SimOptions& options) override {
+    const double dt = options.dt;
     const bool arm = std::any_of(model.materials.begin(), model.materials.end(),
                                  [](const EdgeMaterial& m) { return m.has_maxwell_arm(); });
     const Model hw = driver::hardware_model(model, &dropped_, arm);
+    check_hardware_step(hw, options, dropped_);
     if (!device_ || arm != arm_) {
       link::DeviceOptions o;
       o.lanes = options_.lanes;

@@ -14,9 +14,12 @@ namespace {
 class FloatBackend : public Backend {
  public:
   std::string name() const override { return "float (single precision)"; }
+  std::string arithmetic() const override { return "the hardware's model in single precision"; }
 
-  void load(const Model& model, const State& state, double dt) override {
+  void load(const Model& model, const State& state, const SimOptions& options) override {
+    const double dt = options.dt;
     model_ = std::make_unique<Model>(driver::hardware_model(model, &dropped_, true));
+    check_hardware_step(*model_, options, dropped_);
     loop_ = std::make_unique<SieLoop<float>>(*model_, dt);
     loop_->set_state(state);
     t_ = state.t;
@@ -44,6 +47,7 @@ class FloatBackend : public Backend {
     return s;
   }
   std::vector<std::string> dropped_features() const override { return dropped_; }
+  nlohmann::json describe() const override { return {{"kind", "float"}, {"mantissa_bits", 24}}; }
 
  private:
   std::unique_ptr<Model> model_;  // the loop keeps a reference to it

@@ -11,11 +11,10 @@ namespace {
 class ReferenceBackend : public Backend {
  public:
   std::string name() const override { return "reference (double)"; }
+  std::string arithmetic() const override { return "double-precision reference model"; }
 
-  void load(const Model& model, const State& state, double dt) override {
-    SimOptions o;
-    o.dt = dt;
-    sim_ = std::make_unique<Simulator>(model, o);
+  void load(const Model& model, const State& state, const SimOptions& options) override {
+    sim_ = std::make_unique<Simulator>(model, options);
     sim_->mutable_state() = state;
   }
 
@@ -27,6 +26,7 @@ class ReferenceBackend : public Backend {
   }
 
   State state() override { return loaded().state(); }
+  const State* resident_state() const override { return sim_ ? &sim_->state() : nullptr; }
   std::vector<std::string> dropped_features() const override { return {}; }
 
  private:

@@ -17,6 +17,7 @@
 #include <set>
 
 #include "hls/fixed_format.hpp"
+#include "host/backend/backend.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/fixedcmp/compare.hpp"
@@ -109,16 +110,17 @@ void run(const Options& opt) {
   // The hardware format (18-bit operands), narrow and wide (full-width operands, like the
   // whole sweep), the hardware format with truncation, and with full-width operands (what
   // the operand narrowing costs; also the sweep's 27).
-  std::vector<fixedcmp::BackendSpec> specs = {{"float", 0, false, 0},
-                                              {"fixed", kHardwareFracX, false, kHwOperandBits},
-                                              {"fixed", kNarrowFracX, false, 0},
-                                              {"fixed", kWideFracX, false, 0},
-                                              {"fixed", kHardwareFracX, true, kHwOperandBits},
-                                              {"fixed", kHardwareFracX, false, 0}};
+  using backend::fixed_format_spec;
+  std::vector<std::string> specs = {"float",
+                                    fixed_format_spec(kHardwareFracX, false, kHwOperandBits),
+                                    fixed_format_spec(kNarrowFracX, false, 0),
+                                    fixed_format_spec(kWideFracX, false, 0),
+                                    fixed_format_spec(kHardwareFracX, true, kHwOperandBits),
+                                    fixed_format_spec(kHardwareFracX, false, 0)};
   if (opt.sweep) {
-    for (int fx : fixedcmp::sweep_frac_x()) {
+    for (int fx : backend::fixed_sweep_frac_x()) {
       if (fx != kHardwareFracX && fx != kNarrowFracX && fx != kWideFracX) {
-        specs.push_back({"fixed", fx, false});
+        specs.push_back(fixed_format_spec(fx, false, 0));
       }
     }
   }

@@ -21,7 +21,7 @@
 #include "hls/fixed_format.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
-#include "host/driver/link/backend_run.hpp"
+#include "host/backend/backend.hpp"
 #include "host/output/force_csv.hpp"
 #include "host/output/gnuplot_plot.hpp"
 #include "host/output/run_summary.hpp"
@@ -44,7 +44,7 @@ struct SimulateArgs {
   std::optional<long long> steps;
   bool quiet = false;
   bool no_plot = false;
-  std::string backend = "ref";  // ref | bittrue | rtl | remote:PATH
+  std::string backend = "ref";  // a backend::make_backend spec
   int lanes = hls::kDefaultLanes;
 };
 
@@ -121,6 +121,18 @@ int time_decimals(double row_interval_s) {
   return std::clamp(static_cast<int>(std::ceil(-std::log10(row_interval_s) - 1e-9)) + 1, 3, 9);
 }
 
+// Longest run of steps handed to a backend at once: bounds the memory of a batch and the
+// delay of the progress display and of Ctrl-C.
+constexpr long long kMaxBatchSteps = 4096;
+
+// First step whose time reaches `t_s` (with slack against rounding), at least `after` + 1.
+long long first_step_at(double t_s, double dt, long long after) {
+  const double slack = 1e-9 * dt;
+  const double steps = std::ceil((t_s - slack) / dt);
+  if (!(steps < 9e18)) return std::numeric_limits<long long>::max();
+  return std::max(after + 1, static_cast<long long>(steps));
+}
+
 void run_simulate(const SimulateArgs& args) {
   const Scenario scenario = load_scenario(args.scenario);
   const Model model = scenario.build_model();
@@ -129,8 +141,17 @@ void run_simulate(const SimulateArgs& args) {
   if (args.steps) steps = *args.steps;
   if (args.duration_s) steps = steps_for_duration(*args.duration_s, dt, "--duration");
 
-  // The simulator refuses an unstable dt before anything is created on disk.
-  Simulator sim(model, scenario.options);
+  // Every backend refuses an unstable dt or a model it cannot hold before anything is
+  // created on disk.
+  backend::Options backend_options;
+  backend_options.lanes = args.lanes;
+  const std::unique_ptr<backend::Backend> engine =
+      backend::make_backend(args.backend, backend_options);
+  const State start_state = initial_state(model);
+  engine->load(model, start_state, scenario.options);
+  for (const std::string& f : engine->dropped_features()) {
+    std::cerr << "rheo simulate: note: backend " << engine->name() << " leaves out " << f << "\n";
+  }
   output::StagedDirectory out(args.output.out, args.output.force);
   const std::string dir = out.path();
 
@@ -145,9 +166,7 @@ void run_simulate(const SimulateArgs& args) {
                                   scenario.block.sy * 1e3};
   const EdgeMaterial& mat = scenario.block.material;
   const std::vector<std::pair<std::string, std::string>> extra = {
-      {"source", args.backend == "ref" ? "rheo simulate (double-precision reference model)"
-                                       : "rheo simulate (fixed-point core: bittrue, rtl and "
-                                         "remote give the same numbers)"},
+      {"source", "rheo simulate (" + engine->arithmetic() + ")"},
       {"scenario", scenario.name},
       {"integrator", integrator_name(scenario.options.integrator)},
       {"dt_s", format(dt)},
@@ -158,24 +177,15 @@ void run_simulate(const SimulateArgs& args) {
       {"edges", std::to_string(model.num_edges())},
   };
   output::ForceCsvWriter csv(dir + "/force.csv", specimen, extra, time_decimals(csv_interval));
-  // Fixed-point backends read back positions and velocities, not the edges' Voigt lengths:
-  // their frames leave out edge tension and stress instead of writing zeros.
-  output::FrameContent vtk_content;
-  if (args.backend != "ref") {
-    vtk_content.edge_states = false;
-    vtk_content.absent_reason =
-        "the fixed-point core's edge Voigt lengths are not read back, so edge tensions cannot be "
-        "computed on the host";
-  }
-  output::VtkSeriesWriter vtk(model, dir, vtk_content);
+  output::VtkSeriesWriter vtk(model, dir);
   auto plate_frame = [&](double plate_mm, double force_N) {
     return output::PlateFrame{model.height - plate_mm * 1e-3, plate_mm * 1e-3, force_N};
   };
 
   // The first row and frame: the object at rest before the plate moves.
   csv.write_row(0.0, scenario.protocol.displacement_mm(0.0), 0.0,
-                surface_displacement_mm(model, sim.state(), centre));
-  vtk.write_frame(sim.state(), plate_frame(scenario.protocol.displacement_mm(0.0), 0.0));
+                surface_displacement_mm(model, start_state, centre));
+  vtk.write_frame(start_state, plate_frame(scenario.protocol.displacement_mm(0.0), 0.0));
 
   InterruptGuard interrupt_guard;
   Progress progress("step", steps, progress_enabled(args.quiet));
@@ -187,21 +197,20 @@ void run_simulate(const SimulateArgs& args) {
   figures.add(0.0, 0.0, 0.0);
   const auto start = Clock::now();
   // One step's result, whatever computed it: the CSV row, the VTK frame and the progress.
+  // `state` is null on steps whose state the backend was not asked for.
   auto record = [&](long long i, double plate_mm, double force_N, const State* state) {
     const double t = i * dt;
     if (!std::isfinite(force_N)) {
       throw Error("non-finite plate force at step " + std::to_string(i) + " (t = " + format(t) +
                   " s): the run is numerically unstable");
     }
-    figures.add(t, force_N,
-                state ? surface_displacement_mm(model, *state, centre)
-                      : std::numeric_limits<double>::quiet_NaN());
+    const double surface = state ? surface_displacement_mm(model, *state, centre)
+                                 : std::numeric_limits<double>::quiet_NaN();
+    figures.add(t, force_N, surface);
     if (t >= next_csv - slack || i == steps) {
-      // Fixed-point backends return positions only every few steps; surface_mm stays
-      // empty (docs/data-format.md) on the rows in between.
-      csv.write_row(t, plate_mm, force_N,
-                    state ? surface_displacement_mm(model, *state, centre)
-                          : std::numeric_limits<double>::quiet_NaN());
+      // A backend that keeps no state in host memory is read only at the frames; surface_mm
+      // stays empty (docs/data-format.md) on the rows in between.
+      csv.write_row(t, plate_mm, force_N, surface);
       while (next_csv <= t + slack) next_csv += csv_interval;
     }
     if (state && (t >= next_vtk - slack || i == steps)) {
@@ -212,52 +221,29 @@ void run_simulate(const SimulateArgs& args) {
     progress.update(i);
   };
 
-  if (args.backend == "ref") {
-    for (long long i = 1; i <= steps; ++i) {
-      const double plate_mm = scenario.plate_mm(i);
-      const StepReport report = sim.step(scenario.plate_z(model, i));
-      record(i, plate_mm, report.plate_force_N, &sim.state());
+  // Batches of steps up to the next point whose state is needed: every VTK frame, and every
+  // CSV row where the state costs nothing to look at (the reference).
+  const bool resident = engine->resident_state() != nullptr;
+  std::vector<double> plate_z;
+  long long done = 0;
+  while (done < steps) {
+    long long end = std::min({steps, done + kMaxBatchSteps, first_step_at(next_vtk, dt, done)});
+    if (resident) end = std::min(end, first_step_at(next_csv, dt, done));
+    plate_z.clear();
+    for (long long i = done + 1; i <= end; ++i) plate_z.push_back(scenario.plate_z(model, i));
+    const std::vector<double> force = engine->run(plate_z);
+    const bool frame_due = end == steps || end * dt >= next_vtk - slack;
+    State read_back;
+    const State* end_state = engine->resident_state();
+    if (!end_state && frame_due) {
+      read_back = engine->state();
+      end_state = &read_back;
     }
-  } else {
-    // Fixed-point backends stream the plate in and the force out every step; positions and
-    // velocities come back every vtk-frame interval.
-    link::BackendRunOptions options;
-    options.backend = args.backend;
-    options.lanes = args.lanes;
-    options.steps = static_cast<std::uint64_t>(steps);
-    options.state_every = static_cast<std::uint64_t>(std::max(1.0, std::round(vtk_interval / dt)));
-    long long pending_step = 0;
-    double pending_plate = 0.0, pending_force = 0.0;
-    State frame = initial_state(model);
-    // A step's force arrives before (or with) its positions: hold the last step back until
-    // the positions of that step, if any, are known.
-    auto flush = [&](const State* state) {
-      if (pending_step > 0) record(pending_step, pending_plate, pending_force, state);
-      pending_step = 0;
-    };
-    link::BackendRunCallbacks callbacks;
-    callbacks.step = [&](const link::BackendStep& s) {
-      flush(nullptr);
-      pending_step = static_cast<long long>(s.step);
-      pending_plate = s.plate_mm;
-      pending_force = s.force_N;
-    };
-    callbacks.state = [&](std::uint64_t done, const std::vector<Vec3>& positions,
-                          const std::vector<Vec3>& velocities) {
-      frame.x = positions;
-      frame.v = velocities;
-      frame.t = static_cast<double>(done) * dt;
-      if (pending_step == static_cast<long long>(done)) {
-        flush(&frame);
-      }
-    };
-    const link::BackendRunSummary summary =
-        link::run_scenario_on_backend(scenario, options, callbacks);
-    flush(nullptr);
-    for (const std::string& f : summary.dropped_features) {
-      std::cerr << "rheo simulate: note: backend " << summary.device_name << " leaves out " << f
-                << "\n";
+    for (long long i = done + 1; i <= end; ++i) {
+      record(i, scenario.plate_mm(i), force[static_cast<std::size_t>(i - done - 1)],
+             i == end ? end_state : nullptr);
     }
+    done = end;
   }
   progress.finish();
   const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
@@ -282,10 +268,7 @@ void run_simulate(const SimulateArgs& args) {
   if (const std::vector<std::string> absent = vtk.absent_arrays(); !absent.empty()) {
     std::cout << "  VTK note:   no";
     for (std::size_t i = 0; i < absent.size(); ++i) std::cout << (i ? ", " : " ") << absent[i];
-    std::cout << " in the frames: "
-              << (vtk_content.absent_reason.empty() ? "the 2-D model has no depth (top area)"
-                                                    : vtk_content.absent_reason)
-              << "\n";
+    std::cout << " in the frames: the 2-D model has no depth (top area)\n";
   }
   if (!args.no_plot) {
     std::cout << "  plot:       " << target << "/plot.png (script " << target << "/plot.gp)\n";
@@ -318,9 +301,9 @@ void register_simulate(CLI::App& app) {
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
   cmd->add_flag("--no-plot", args->no_plot, "do not draw plot.png (no gnuplot needed)");
   cmd->add_option("--backend", args->backend,
-                  "model that computes the run: ref (double reference, default), bittrue "
-                  "(fixed-point HLS-style model), rtl (Verilator core in process) or remote:PATH "
-                  "(cosim-server on a Unix socket); bittrue, rtl and remote give identical numbers")
+                  "what computes the run: " + backend::backend_names() +
+                      " (docs/backends.md); ref is the double reference, float the hardware's "
+                      "model in single precision; bittrue, rtl and remote give identical numbers")
       ->capture_default_str();
   add_lanes_option(cmd, args->lanes, "an in-process rtl or bittrue core");
   cmd->callback([args]() { run_simulate(*args); });

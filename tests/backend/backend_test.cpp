@@ -70,21 +70,23 @@ double max_diff(const std::vector<double>& a, const std::vector<double>& b) {
   return d;
 }
 
+// The hardware's arithmetic in process: through the core's frames (bittrue, rtl) and
+// directly on the core memories (fixed:q27_nearest_op18, what `rheo fixed` runs).
 std::vector<std::string> in_process_fixed_point() {
 #ifdef RHEO_HAVE_RTL
-  return {"bittrue", "rtl"};
+  return {"bittrue", "fixed:q27_nearest_op18", "rtl"};
 #else
-  return {"bittrue"};
+  return {"bittrue", "fixed:q27_nearest_op18"};
 #endif
 }
 
 TEST(Backend, TheRegistryNamesEveryBackendAndRefusesOthersWithTheList) {
-  EXPECT_EQ(backend_names(), "ref, float, bittrue, rtl or remote:PATH");
+  EXPECT_EQ(backend_names(), "ref, float, bittrue, rtl, remote:PATH or fixed:FORMAT");
   try {
     make_backend("fpga");
     FAIL() << "an unknown backend was accepted";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("expected ref, float, bittrue, rtl or remote:PATH"),
+    EXPECT_NE(std::string(e.what()).find("expected ref, float, bittrue, rtl, remote:PATH or fixed:FORMAT"),
               std::string::npos)
         << e.what();
   }
@@ -115,6 +117,47 @@ TEST(Backend, EveryBackendRunsBlock5AndTheFixedPointCoresAgreeBitForBit) {
       first = fx.force;
     } else {
       EXPECT_EQ(fx.force, first) << spec << " differs from bittrue";
+    }
+  }
+}
+
+TEST(Backend, AFixedPointFormatIsNamedByItsWidthsAndAnUnknownOneIsRefusedWithTheList) {
+  EXPECT_EQ(make_backend("fixed:q35_nearest")->name(), "fixed_q35_nearest");
+  EXPECT_EQ(make_backend(fixed_format_spec(27, true, 18))->name(), "fixed_q27_truncate_op18");
+  for (const std::string bad : {"fixed:q28_nearest", "fixed:q27_round", "fixed:27"}) {
+    try {
+      make_backend(bad);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("expected qF_nearest or qF_truncate"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+// The cores step semi-implicit Euler: an RK4 run is listed as not honoured, and a step above
+// the explicit bound is refused as the reference refuses it.
+TEST(Backend, TheCoresNameTheIntegratorTheyDoNotRunAndRefuseAnUnstableStep) {
+  const Model model = block5_model();
+  SimOptions rk4;
+  rk4.dt = 1e-3;
+  rk4.integrator = Integrator::kRK4;
+  for (const std::string spec : {"float", "bittrue", "fixed:q27_nearest_op18"}) {
+    const std::unique_ptr<Backend> b = make_backend(spec);
+    b->load(model, initial_state(model), rk4);
+    const std::vector<std::string> dropped = b->dropped_features();
+    EXPECT_TRUE(std::any_of(dropped.begin(), dropped.end(),
+                            [](const std::string& f) { return f.find("rk4") != std::string::npos; }))
+        << spec;
+  }
+  for (const std::string spec : {"ref", "float", "bittrue", "fixed:q27_nearest_op18"}) {
+    const std::unique_ptr<Backend> b = make_backend(spec);
+    try {
+      b->load(model, initial_state(model), 0.05);
+      ADD_FAILURE() << spec << " took an unstable step";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("largest safe dt"), std::string::npos) << e.what();
     }
   }
 }

@@ -2,7 +2,6 @@
 // promises, and the hardware format meets the accuracy bound of issue 5.
 #include <gtest/gtest.h>
 
-#include "hls/fixed_format.hpp"
 #include "host/fixedcmp/compare.hpp"
 #include "sim/scenario.hpp"
 
@@ -17,10 +16,8 @@ constexpr long long kSteps = 10000;
 TEST(FixedComparison, HardwareFormatMeetsTheBoundOnBlock5AndReportsAllFields) {
   CompareOptions options;
   options.steps = kSteps;
-  const std::vector<BackendSpec> specs = {
-      {"float", 0, false, 0},
-      {"fixed", hls::HardwareFormat::kFracX, false, hls::kHardwareOperandBits},
-      {"fixed", hls::HardwareFormat::kFracX, true, hls::kHardwareOperandBits}};
+  const std::vector<std::string> specs = {"float", "fixed:q27_nearest_op18",
+                                          "fixed:q27_truncate_op18"};
   const nlohmann::json result = compare(load_scenario("block5"), specs, options);
   for (const char* key : {"scenario", "steps", "object_size_m", "backends",
                           "peak_reference_plate_force_N", "dropped_features"}) {
