@@ -9,8 +9,10 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -26,6 +28,19 @@ struct Options {
   int lanes = 1;          // in-process fixed-point cores (a remote core reports its own)
   std::string trace_fst;  // rtl: FST waveform file (empty: none)
   std::chrono::milliseconds timeout{10000};  // remote: per link transaction
+  // rtl: random idle cycles on the core's input stream and random back-pressure on its
+  // output stream (probability per clock), from this seed.
+  double input_idle_prob = 0.0;
+  double output_stall_prob = 0.0;
+  std::uint64_t seed = 1;
+};
+
+// The clocks of a fixed-point core: its own cycle counter (status register, all cores) and,
+// for a simulated one (rtl), the clocks simulated and the wall time spent on them.
+struct CoreClock {
+  std::uint32_t core_cycles = 0;  // compute clocks since reset (wraps at 2^32)
+  std::uint64_t sim_cycles = 0;
+  double sim_wall_s = 0.0;
 };
 
 class Backend {
@@ -65,6 +80,12 @@ class Backend {
   // What the backend is beyond its name, for reports (e.g. a fixed-point format's widths and
   // units); empty where there is nothing to add.
   virtual nlohmann::json describe() const { return nlohmann::json::object(); }
+  // The core's clocks where the backend is a core (empty for the reference and float).
+  virtual std::optional<CoreClock> clock() { return std::nullopt; }
+  // Waveform (rtl with Options::trace_fst): on or off for the steps that follow, and the
+  // waveform's current time, to mark which steps it covers.
+  virtual void set_tracing(bool /*on*/) {}
+  virtual std::uint64_t trace_time() const { return 0; }
 };
 
 // The registry: a backend name, its help text and how it is made. `argument` is the text

@@ -21,7 +21,9 @@ class DeviceBackend : public Backend {
       : device_spec_(std::move(device)), options_(options) {}
 
   std::string name() const override { return name_.empty() ? device_spec_ : name_; }
-  std::string arithmetic() const override { return "fixed-point core: bittrue, rtl and remote give the same numbers"; }
+  std::string arithmetic() const override {
+    return "fixed-point core: bittrue, rtl and remote give the same numbers";
+  }
 
   void load(const Model& model, const State& state, const SimOptions& options) override {
     const double dt = options.dt;
@@ -35,6 +37,9 @@ class DeviceBackend : public Backend {
       o.maxwell_arm = arm;
       o.trace_fst = options_.trace_fst;
       o.timeout = options_.timeout;
+      o.input_idle_prob = options_.input_idle_prob;
+      o.output_stall_prob = options_.output_stall_prob;
+      o.seed = options_.seed;
       link::OpenedDevice opened = link::make_device(device_spec_, o);
       device_ = std::move(opened.device);
       lanes_ = opened.lanes;
@@ -99,6 +104,21 @@ class DeviceBackend : public Backend {
   }
 
   std::vector<std::string> dropped_features() const override { return dropped_; }
+
+  std::optional<CoreClock> clock() override {
+    loaded();
+    CoreClock c;
+    c.core_cycles = device_->read_status(false).cycles;
+    c.sim_cycles = device_->transport().cycles();
+    c.sim_wall_s = device_->transport().wall_seconds();
+    return c;
+  }
+  void set_tracing(bool on) override {
+    if (device_) device_->transport().set_tracing(on);
+  }
+  std::uint64_t trace_time() const override {
+    return device_ ? device_->transport().trace_time() : 0;
+  }
 
  private:
   const driver::CoreImage& loaded() const {

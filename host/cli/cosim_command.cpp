@@ -18,7 +18,7 @@
 #include "sim/scenario.hpp"
 #ifdef RHEO_HAVE_RTL
 #include "host/driver/core_image.hpp"
-#include "host/driver/cosim.hpp"
+#include "host/cosim/cosim.hpp"
 #endif
 
 namespace rheo::cli {
@@ -48,6 +48,10 @@ struct CosimArgs {
   int compare_every = 1;
   bool quiet = false;
   bool maxwell_arm = false;
+  std::string dut = "rtl";
+  double idle_prob = 0.0;
+  double stall_prob = 0.0;
+  std::uint64_t seed = 1;
 };
 
 void run(const CosimArgs& args) {
@@ -57,9 +61,13 @@ void run(const CosimArgs& args) {
 #else
   namespace fs = std::filesystem;
   const Scenario scenario = load_scenario(args.scenario);
-  driver::CosimOptions opt;
+  cosim::CosimOptions opt;
   opt.steps = args.steps ? static_cast<long>(*args.steps) : scenario.default_steps();
   opt.lanes = args.lanes;
+  opt.dut = args.dut;
+  opt.input_idle_prob = args.idle_prob;
+  opt.output_stall_prob = args.stall_prob;
+  opt.seed = args.seed;
   opt.trace_steps = args.trace_steps;
   opt.compare_every = args.compare_every;
   opt.maxwell_arm = args.maxwell_arm;
@@ -68,13 +76,18 @@ void run(const CosimArgs& args) {
   opt.trace_fst = args.trace.empty() ? "" : out.map(args.trace);
   Progress progress("step", opt.steps, progress_enabled(args.quiet));
   opt.progress = [&progress](long step) { progress.update(step); };
-  const driver::CosimResult r = driver::run_cosim(scenario, opt);
+  const cosim::CosimResult r = cosim::run_cosim(scenario, opt);
   progress.finish();
 
   nlohmann::json j;
   j["scenario"] = scenario.name;
   j["steps"] = r.steps;
   j["lanes"] = r.lanes;
+  j["core_under_test"] = r.dut_name;
+  j["golden_core"] = r.golden_name;
+  j["input_idle_prob"] = opt.input_idle_prob;
+  j["output_stall_prob"] = opt.output_stall_prob;
+  j["seed"] = opt.seed;
   j["mismatches"] = r.mismatches;
   j["first_mismatches"] = nlohmann::json::array();
   for (const auto& m : r.first) j["first_mismatches"].push_back(m.describe());
@@ -109,7 +122,7 @@ void run(const CosimArgs& args) {
   if (!json_file.flush()) throw Error(json_path.string() + ": write failed");
   json_file.close();
   // The save file names the FST where it will be after the commit.
-  if (!args.trace.empty()) driver::write_trace_gtkw(r, opt, gtkw_filter_path(), args.trace);
+  if (!args.trace.empty()) cosim::write_trace_gtkw(r, opt, gtkw_filter_path(), args.trace);
   // A mismatch is a result too: cosim.json (and the waveform) are kept for the
   // investigation, and the command still fails.
   out.commit();
@@ -133,8 +146,8 @@ void run(const CosimArgs& args) {
   }
   if (r.mismatches > 0) {
     std::cerr << "cosim: first mismatch at " << r.first.front().describe() << "\n";
-    throw Error("cosim: RTL and bit-true model differ (" + std::to_string(r.mismatches) +
-                " words)");
+    throw Error("cosim: " + r.dut_name + " and " + r.golden_name + " differ (" +
+                std::to_string(r.mismatches) + " values)");
   }
 #endif
 }
@@ -145,9 +158,10 @@ void register_cosim(CLI::App& app) {
   auto args = std::make_shared<CosimArgs>();
   CLI::App* cmd = app.add_subcommand(
       "cosim",
-      "Run the RTL core (Verilator) and the bit-true fixed-point model on identical input, "
-      "check every particle state word and plate-force word for equality at every step, "
-      "compare with the double reference model and write DIR/cosim.json.");
+      "Run the RTL core (Verilator; or another core, --backend) and the bit-true fixed-point "
+      "model on identical input, check every particle state word and plate-force word for "
+      "equality at every step, compare with the double reference model and write "
+      "DIR/cosim.json.");
   cmd->add_option("--scenario", args->scenario, "built-in scenario name or JSON file")->required();
   add_steps_option(cmd, args->steps, "number of steps (default: the scenario's duration)");
   add_lanes_option(cmd, args->lanes, "the core");
@@ -163,6 +177,19 @@ void register_cosim(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   add_output_options(cmd, args->output);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress on stderr");
+  cmd->add_option("--backend", args->dut,
+                  "the core under test, compared word for word with bittrue: rtl (default) or "
+                  "remote:PATH (a cosim-server's core)")
+      ->capture_default_str();
+  cmd->add_option("--idle-prob", args->idle_prob,
+                  "rtl: probability per clock of an idle cycle on the core's input stream "
+                  "(s_axis_tvalid low), default 0")
+      ->check(CLI::Range(0.0, 0.95));
+  cmd->add_option("--stall-prob", args->stall_prob,
+                  "rtl: probability per clock of back-pressure on the core's output stream "
+                  "(m_axis_tready low), default 0")
+      ->check(CLI::Range(0.0, 0.95));
+  cmd->add_option("--seed", args->seed, "rtl: seed of the idle and stall patterns (default 1)");
   cmd->add_flag("--maxwell-arm", args->maxwell_arm,
                 "run the core variant with the parallel Maxwell arm (MaxwellArm = 1, 1 lane): "
                 "the scenario's k2/c3 arm is computed instead of dropped");

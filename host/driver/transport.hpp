@@ -18,6 +18,13 @@ class Transport {
   // The next n response words; throws rheo::Error if the core does not produce them.
   virtual std::vector<std::uint32_t> receive(std::size_t n) = 0;
   virtual std::string name() const = 0;
+
+  // A simulated core (Verilator) also tells its clock and writes a waveform; the other
+  // transports keep these defaults.
+  virtual std::uint64_t cycles() const { return 0; }       // clocks simulated so far
+  virtual double wall_seconds() const { return 0.0; }       // wall time spent clocking
+  virtual void set_tracing(bool /*on*/) {}                  // waveform on/off from now
+  virtual std::uint64_t trace_time() const { return 0; }   // the waveform's current time
 };
 
 }  // namespace rheo::driver

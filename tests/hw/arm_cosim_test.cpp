@@ -8,13 +8,17 @@
 #include <cmath>
 
 #include "host/driver/core_image.hpp"
-#include "host/driver/cosim.hpp"
+#include "host/cosim/cosim.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
 
 namespace rheo::driver {
 namespace {
+
+using cosim::CosimOptions;
+using cosim::CosimResult;
+using cosim::run_cosim;
 
 // Push (2 s at 1 ms steps) and the first 2 s of the hold, where the arm relaxes.
 constexpr long kArmRunSteps = 4000;

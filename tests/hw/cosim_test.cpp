@@ -5,11 +5,15 @@
 
 #include <algorithm>
 
-#include "host/driver/cosim.hpp"
+#include "host/cosim/cosim.hpp"
 #include "sim/scenario.hpp"
 
 namespace rheo::driver {
 namespace {
+
+using cosim::CosimOptions;
+using cosim::CosimResult;
+using cosim::run_cosim;
 
 // 10,000 steps of block5 cover its push, hold and release (10 s at dt = 1 ms with the
 // built-in scenario at the time of writing).

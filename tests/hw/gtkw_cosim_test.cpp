@@ -19,13 +19,18 @@
 #include <vector>
 
 #include "hls/fixed_format.hpp"
-#include "host/driver/cosim.hpp"
+#include "host/cosim/cosim.hpp"
 #include "host/driver/fst_signals.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
 
 namespace rheo::driver {
 namespace {
+
+using cosim::CosimOptions;
+using cosim::CosimResult;
+using cosim::run_cosim;
+using cosim::write_trace_gtkw;
 
 namespace fs = std::filesystem;
 

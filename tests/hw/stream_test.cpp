@@ -7,7 +7,7 @@
 #include <memory>
 
 #include "host/driver/bittrue_transport.hpp"
-#include "host/driver/cosim.hpp"
+#include "host/cosim/cosim.hpp"
 #include "host/driver/device.hpp"
 #include "hls/frame_format.hpp"
 #include "host/driver/verilator_transport.hpp"
@@ -16,6 +16,10 @@
 
 namespace rheo::driver {
 namespace {
+
+using cosim::CosimOptions;
+using cosim::CosimResult;
+using cosim::run_cosim;
 
 // A 3 x 3 x 3 version of block5 keeps the runs short.
 Scenario small_block() {

@@ -29,7 +29,7 @@ BackendRunSummary run_scenario_on_backend(const Scenario& scenario,
   o.chunk_steps = options.chunk_steps;
   StreamingCallbacks c;
   c.plate_word = [&](std::uint64_t s) {
-    const double z = model.height - scenario.protocol.displacement_mm(time_of(s)) * 1e-3;
+    const double z = scenario.plate_z(model, static_cast<long long>(s + 1));
     return static_cast<std::int32_t>(driver::to_x_word(z, image, "plate height"));
   };
   c.force = [&](std::uint64_t s, std::int32_t word) {

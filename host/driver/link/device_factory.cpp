@@ -29,6 +29,9 @@ OpenedDevice make_device(const std::string& backend, const DeviceOptions& option
     vo.lanes = options.lanes;
     vo.maxwell_arm = options.maxwell_arm;
     vo.trace_fst = options.trace_fst;
+    vo.input_idle_prob = options.input_idle_prob;
+    vo.output_stall_prob = options.output_stall_prob;
+    vo.seed = options.seed;
     out.device = std::make_unique<driver::Device>(std::make_unique<driver::VerilatorTransport>(vo));
     out.lanes = options.lanes;
 #else
@@ -47,7 +50,7 @@ OpenedDevice make_device(const std::string& backend, const DeviceOptions& option
         "the command runs it directly");
   } else {
     throw Error("--backend '" + backend +
-                "': expected ref, bittrue, rtl or remote:PATH (PATH = socket of rheo "
+                "': expected bittrue, rtl or remote:PATH (PATH = socket of rheo "
                 "cosim-server)");
   }
   out.name = out.device->transport().name();

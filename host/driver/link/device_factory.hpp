@@ -20,6 +20,9 @@ struct DeviceOptions {
   bool maxwell_arm = false;  // in-process cores: the variant with the parallel Maxwell arm
   std::string trace_fst;  // rtl only
   Milliseconds timeout{10000};
+  double input_idle_prob = 0.0;    // rtl only: random idle cycles on s_axis
+  double output_stall_prob = 0.0;  // rtl only: random back-pressure on m_axis
+  std::uint64_t seed = 1;          // rtl only: of the two above
 };
 
 struct OpenedDevice {

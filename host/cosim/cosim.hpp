@@ -1,7 +1,9 @@
-// Cosimulation: the RTL core (Verilator) and the bit-true model run on identical frames;
-// every plate-force word and every particle state word is compared for equality; the
-// double reference model runs alongside on the same (hardware-feature) model to measure
-// the fixed-point error.
+// Cosimulation: a core under test (the RTL core in Verilator by default, or any backend)
+// and a golden core (the bit-true model) run on identical input through the one Backend
+// interface (host/backend); every plate force and every particle position and velocity is
+// compared for equality (the values come from the cores' words by the same scaling, so
+// equal values are equal words); the double reference runs alongside on the same
+// hardware-feature model to measure the fixed-point error.
 #pragma once
 
 #include <cstdint>
@@ -12,33 +14,36 @@
 #include "host/driver/gtkw.hpp"
 #include "sim/scenario.hpp"
 
-namespace rheo::driver {
+namespace rheo::cosim {
 
 struct CosimOptions {
   long steps = 1000;
   int lanes = 1;
-  std::string trace_fst;           // empty: no waveform
-  long trace_steps = 100;          // waveform covers the first N steps (0: the whole run)
-  int compare_every = 1;           // read and compare the RTL particle state every K steps
-  double input_idle_prob = 0.0;    // random idle cycles on s_axis
-  double output_stall_prob = 0.0;  // random back-pressure on m_axis
+  std::string dut = "rtl";          // backend::make_backend spec of the core under test
+  std::string golden = "bittrue";   // and of the core it must equal word for word
+  std::string trace_fst;            // empty: no waveform (rtl)
+  long trace_steps = 100;           // waveform covers the first N steps (0: the whole run)
+  int compare_every = 1;            // read and compare the particle state every K steps
+  double input_idle_prob = 0.0;     // random idle cycles on s_axis (rtl)
+  double output_stall_prob = 0.0;   // random back-pressure on m_axis (rtl)
   std::uint64_t seed = 1;
   bool run_reference = true;
-  bool maxwell_arm = false;  // the core variant with the parallel Maxwell arm (1 lane)
+  bool maxwell_arm = false;  // compute the model's Maxwell arm (the core variant with it, 1 lane)
   std::function<void(long step)> progress;  // called after each batch (may be empty)
 };
 
 struct CosimMismatch {
   long step = 0;
-  int particle = -1;  // -1: the plate-force word
+  int particle = -1;  // -1: the plate force
   std::string field;
-  std::int64_t rtl = 0, bittrue = 0;
+  double dut = 0.0, golden = 0.0;
+  std::string dut_name = "rtl", golden_name = "bittrue";
   std::string describe() const;
 };
 
 struct CosimResult {
   long steps = 0;
-  long mismatches = 0;  // words that differed (the run stops at the first mismatching step)
+  long mismatches = 0;  // values that differed (the run stops at the first mismatching step)
   std::vector<CosimMismatch> first;  // first mismatches (at most 10)
   double max_pos_err_rel = 0.0;      // max |x_fixed - x_ref| / object size over the run
   double rms_pos_err_rel = 0.0;      // RMS of the same over particles and compared steps
@@ -51,11 +56,12 @@ struct CosimResult {
   std::uint64_t sim_cycles = 0;
   int particles = 0, edges = 0, edge_rows = 0, lanes = 0;
   double length_unit_m = 0.0, force_unit_N = 0.0, dt_s = 0.0;
+  std::string dut_name, golden_name;  // what ran (Backend::name)
   std::vector<std::string> dropped_features;
   std::vector<double> force_fixed_N, force_ref_N;  // per step
   // With a waveform: the FST times of each traced batch of steps (compare_every steps),
   // from its RUN command to its last force word.
-  std::vector<TracedSteps> traced;
+  std::vector<driver::TracedSteps> traced;
 };
 
 CosimResult run_cosim(const Scenario& scenario, const CosimOptions& options);
@@ -70,4 +76,4 @@ std::string write_trace_gtkw(const CosimResult& result, const CosimOptions& opti
                              const std::string& filter_command,
                              const std::string& final_fst = "");
 
-}  // namespace rheo::driver
+}  // namespace rheo::cosim

@@ -1,0 +1,184 @@
+#include "host/cosim/cosim.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "hls/fixed_format.hpp"
+#include "host/backend/backend.hpp"
+#include "host/driver/core_image.hpp"
+#include "host/driver/fst_signals.hpp"
+#include "sim/error.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo::cosim {
+namespace {
+
+using driver::CoreImage;
+constexpr const char* kFieldNames[6] = {"x", "y", "z", "v_x", "v_y", "v_z"};
+constexpr std::size_t kMaxReportedMismatches = 10;
+
+}  // namespace
+
+std::string CosimMismatch::describe() const {
+  std::ostringstream os;
+  os.precision(17);
+  os << "step " << step << ", ";
+  if (particle < 0)
+    os << "plate force";
+  else
+    os << "particle " << particle << ", field " << field;
+  os << ": " << dut_name << " " << dut << " != " << golden_name << " " << golden;
+  return os.str();
+}
+
+CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
+  if (opt.steps < 1) throw Error("cosim: steps must be at least 1");
+  if (opt.compare_every < 1) throw Error("cosim: compare_every must be at least 1");
+  CosimResult res;
+  // The model every side runs: without what the core does not compute (listed), with the
+  // Maxwell arm when asked for.
+  const Model model =
+      driver::hardware_model(scenario.build_model(), &res.dropped_features, opt.maxwell_arm);
+  const double dt = scenario.options.dt;
+  const State start = initial_state(model);
+  // The image the cores hold, for the figures (units, schedule rows, cycle formula).
+  const CoreImage image =
+      driver::make_core_image(model, start, dt, opt.lanes, driver::FormatDesc{}, opt.maxwell_arm);
+
+  backend::Options bo;
+  bo.lanes = opt.lanes;
+  bo.trace_fst = opt.trace_fst;
+  bo.input_idle_prob = opt.input_idle_prob;
+  bo.output_stall_prob = opt.output_stall_prob;
+  bo.seed = opt.seed;
+  const std::unique_ptr<backend::Backend> dut = backend::make_backend(opt.dut, bo);
+  backend::Options go;
+  go.lanes = opt.lanes;
+  const std::unique_ptr<backend::Backend> golden = backend::make_backend(opt.golden, go);
+  dut->load(model, start, scenario.options);
+  golden->load(model, start, scenario.options);
+  res.dut_name = opt.dut;
+  res.golden_name = opt.golden;
+  res.particles = image.num_particles;
+  res.edges = image.num_edges;
+  res.edge_rows = image.edge_rows;
+  res.lanes = opt.lanes;
+  res.length_unit_m = image.units.length_m;
+  res.force_unit_N = image.units.force_N;
+  res.dt_s = dt;
+  res.cycles_per_step_formula =
+      driver::cycles_per_step_formula(image.edge_rows, image.num_particles, opt.lanes);
+  const std::optional<backend::CoreClock> clock_start = dut->clock();
+
+  std::unique_ptr<backend::Backend> ref;
+  if (opt.run_reference) {
+    ref = backend::make_backend("ref");
+    ref->load(model, start, scenario.options);
+  }
+  const double size = image.extent_m;
+  double sq_sum = 0.0;
+  long sq_count = 0;
+  const int np = image.num_particles;
+  auto mismatch = [&](long step, int particle, const std::string& field, double d, double g) {
+    ++res.mismatches;
+    if (res.first.size() < kMaxReportedMismatches)
+      res.first.push_back({step, particle, field, d, g, opt.dut, opt.golden});
+  };
+
+  long step = 0;
+  while (step < opt.steps) {
+    const long batch = std::min<long>(opt.compare_every, opt.steps - step);
+    const bool traced = !opt.trace_fst.empty() && (opt.trace_steps == 0 || step < opt.trace_steps);
+    dut->set_tracing(traced);
+    std::vector<double> plate_z(batch);
+    for (long b = 0; b < batch; ++b) plate_z[b] = scenario.plate_z(model, step + b + 1);
+    const std::vector<double> f_golden = golden->run(plate_z);
+    const std::uint64_t batch_start = dut->trace_time();
+    const std::vector<double> f_dut = dut->run(plate_z);
+    if (traced) res.traced.push_back({step + 1, batch, batch_start, dut->trace_time()});
+    const std::vector<double> f_ref = ref ? ref->run(plate_z) : std::vector<double>{};
+    for (long b = 0; b < batch; ++b) {
+      if (f_dut[b] != f_golden[b]) mismatch(step + b + 1, -1, "plate_force", f_dut[b], f_golden[b]);
+      res.force_fixed_N.push_back(f_golden[b]);
+      if (ref) res.force_ref_N.push_back(f_ref[b]);
+    }
+    step += batch;
+    // Every particle position and velocity of the core under test against the golden core.
+    const State s_dut = dut->state();
+    const State s_golden = golden->state();
+    for (int i = 0; i < np; ++i) {
+      for (int f = 0; f < 6; ++f) {
+        const double d = f < 3 ? s_dut.x[i][f] : s_dut.v[i][f - 3];
+        const double g = f < 3 ? s_golden.x[i][f] : s_golden.v[i][f - 3];
+        if (d != g) mismatch(step, i, kFieldNames[f], d, g);
+      }
+    }
+    if (ref) {
+      const State& rs = *ref->resident_state();
+      double step_max = 0.0;
+      for (int i = 0; i < np; ++i) {
+        const double e = (s_golden.x[i] - rs.x[i]).norm() / size;
+        step_max = std::max(step_max, e);
+        sq_sum += e * e;
+        ++sq_count;
+      }
+      res.max_pos_err_rel = std::max(res.max_pos_err_rel, step_max);
+      res.final_max_pos_err_rel = step_max;
+    }
+    if (opt.progress) opt.progress(step);
+    if (res.mismatches > 0) break;
+  }
+  res.steps = step;
+  if (sq_count > 0) res.rms_pos_err_rel = std::sqrt(sq_sum / double(sq_count));
+  if (ref) {
+    double fmax = 0.0, emax = 0.0;
+    for (std::size_t i = 0; i < res.force_ref_N.size(); ++i) {
+      fmax = std::max(fmax, std::fabs(res.force_ref_N[i]));
+      emax = std::max(emax, std::fabs(res.force_fixed_N[i] - res.force_ref_N[i]));
+    }
+    res.max_force_ref_N = fmax;
+    res.max_force_err_rel = fmax > 0.0 ? emax / fmax : emax;
+  }
+  if (const std::optional<backend::CoreClock> clock_end = dut->clock(); clock_end && clock_start) {
+    res.cycles_per_step_measured =
+        double(std::uint32_t(clock_end->core_cycles - clock_start->core_cycles)) /
+        double(std::max<long>(step, 1));
+    res.sim_cycles = clock_end->sim_cycles;
+    res.sim_cycles_per_s =
+        clock_end->sim_wall_s > 0 ? double(clock_end->sim_cycles) / clock_end->sim_wall_s : 0.0;
+  }
+  return res;
+}
+
+std::string write_trace_gtkw(const CosimResult& r, const CosimOptions& opt,
+                             const std::string& filter_command, const std::string& final_fst) {
+  namespace fs = std::filesystem;
+  if (opt.trace_fst.empty()) throw Error("gtkw: the run wrote no waveform");
+  if (r.traced.empty()) throw Error("gtkw: no step of the run is in " + opt.trace_fst);
+  const driver::FstContents fst = driver::read_fst_signals(opt.trace_fst);
+  if (r.traced.front().start_time < fst.start_time || r.traced.front().end_time > fst.end_time)
+    throw Error("gtkw: step " + std::to_string(r.traced.front().first_step) +
+                " lies outside the times of " + opt.trace_fst);
+  driver::GtkwOptions g;
+  g.lanes = r.lanes;
+  g.maxwell_arm = opt.maxwell_arm;
+  // The RTL implements the hardware format (rtl/rheo_consts_pkg.sv is generated from it).
+  g.format = driver::FormatDesc::of<hls::HardwareFormat>();
+  g.units = driver::Units{r.length_unit_m, r.force_unit_N, r.dt_s};
+  g.filter_command = filter_command;
+  g.steps = r.traced;
+  g.dump_file = fs::absolute(final_fst.empty() ? opt.trace_fst : final_fst).string();
+  const std::string text = driver::make_gtkw(fst.signals, g);
+  const std::string path = fs::path(opt.trace_fst).replace_extension(".gtkw").string();
+  std::ofstream out(path);
+  out << text;
+  out.close();
+  if (!out) throw Error("cannot write " + path);
+  return path;
+}
+
+}  // namespace rheo::cosim
