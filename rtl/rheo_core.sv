@@ -163,6 +163,24 @@ module rheo_core #(
   logic [PAW-1:0] clear_addr;
   assign clear_addr = clearing_sums ? PAW'(row_q) : walk1_q;
 
+`ifndef SYNTHESIS
+  // Stream protocol and FSM invariants (rtl/rheo_stream_checker.sv): asserted in every
+  // verilated core (--assert) and proved by the formal flow; synthesis leaves them out.
+  rheo_stream_checker #(
+    .W(W), .StateW($bits(state_q)), .NumStates(32'(StForceOut) + 1), .Lanes(Lanes), .BW(BW),
+    .DrainW(DrainW), .MaxDrain((TemDrain > MpmDrain ? TemDrain : MpmDrain) - 1),
+    .DivStepW(5), .DivSteps(IdxCountW)
+  ) u_checker (
+    .clk_i(clk_i), .rst_ni(rst_ni),
+    .s_axis_tdata(s_axis_tdata), .s_axis_tvalid(s_axis_tvalid), .s_axis_tready(s_axis_tready),
+    .s_axis_tlast(s_axis_tlast),
+    .m_axis_tdata(m_axis_tdata), .m_axis_tvalid(m_axis_tvalid), .m_axis_tready(m_axis_tready),
+    .m_axis_tlast(m_axis_tlast),
+    .busy_i(busy_o), .state_i(state_q),
+    .holds_word_i(state_q == StRSend || state_q == StStatSend || state_q == StForceOut),
+    .bank_i(bank_q), .drain_i(drain_q), .div_step_i(div_step_q));
+`endif
+
   // ---------------------------------------------------------------- lane signals
   // Edge pass, stage 1 (slot record read) and stage 2 (particles read, TEM input).
   logic ev1_q;

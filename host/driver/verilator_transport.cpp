@@ -10,6 +10,7 @@
 #include "Vrheo_core_l1.h"
 #include "Vrheo_core_l2.h"
 #include "Vrheo_core_l4.h"
+#include "Vrheo_core_xinit_l1.h"
 #pragma GCC diagnostic pop
 
 #include <chrono>
@@ -42,21 +43,44 @@ class Harness : public VerilatorTransport::Impl {
   explicit Harness(const VerilatorOptions& o) : opt_(o), rng_(o.seed) {
     ctx_ = std::make_unique<VerilatedContext>();
     ctx_->traceEverOn(!o.trace_fst.empty());
+    // A failed assertion sets the context's error flag instead of aborting the process,
+    // so that eval() can turn it into rheo::Error.
+    ctx_->fatalOnError(false);
+    if (o.power_up_seed != 0) {
+      // Random power-up state, drawn in the model's constructor (--x-initial unique).
+      ctx_->randReset(2);
+      ctx_->randSeed(int(o.power_up_seed));
+    }
     model_ = std::make_unique<M>(ctx_.get(), "rheo_core");
     if (!o.trace_fst.empty()) {
-      fst_ = std::make_unique<VerilatedFstC>();
-      model_->trace(fst_.get(), 99);
-      fst_->open(o.trace_fst.c_str());
-      if (!fst_->isOpen()) throw Error("cannot open trace file " + o.trace_fst);
+      // The power-up variant is built without tracing (rtl/CMakeLists.txt).
+      if constexpr (requires(M& m, VerilatedFstC* f) { m.trace(f, 99); }) {
+        fst_ = std::make_unique<VerilatedFstC>();
+        model_->trace(fst_.get(), 99);
+        fst_->open(o.trace_fst.c_str());
+        if (!fst_->isOpen()) throw Error("cannot open trace file " + o.trace_fst);
+      } else {
+        throw Error("RTL core: this variant is built without waveform tracing");
+      }
     }
+    // Reset. The core's registers have asynchronous resets, which in the hardware act for
+    // as long as rst_ni is low, but a simulator only runs them on rst_ni's falling edge
+    // (or on a clock edge while it is low). A reset held low from time 0 has no falling
+    // edge, so until the first clock the registers keep their power-up values, and a
+    // random power-up state can show a word on m_axis. So rst_ni first goes high and
+    // then falls, and no handshake is driven or taken until it is released.
     model_->clk_i = 0;
-    model_->rst_ni = 0;
+    model_->rst_ni = 1;
     model_->s_axis_tvalid = 0;
     model_->s_axis_tlast = 0;
     model_->m_axis_tready = 0;
-    model_->eval();
-    for (int i = 0; i < 4; ++i) tick();
+    eval();
+    model_->rst_ni = 0;
+    eval();
+    in_reset_ = true;
+    for (int i = 0; i < kResetClocks; ++i) tick();
     model_->rst_ni = 1;
+    in_reset_ = false;
     tick();
   }
   ~Harness() override {
@@ -94,16 +118,32 @@ class Harness : public VerilatorTransport::Impl {
   std::uint64_t time() const override { return ctx_->time(); }
 
  private:
+  // Evaluates the model; a failed RTL assertion ($error under --assert) ends the run.
+  void eval() {
+    model_->eval();
+    if (ctx_->gotError()) {
+      throw Error("RTL core: an assertion failed at clock " + std::to_string(cycles) +
+                  " (message above)");
+    }
+  }
+
   // One clock: drive inputs for this cycle, sample handshakes at the rising edge.
   void tick() {
     const auto t0 = std::chrono::steady_clock::now();
-    const bool offer = !in_.empty() && !(opt_.input_idle_prob > 0 && coin(opt_.input_idle_prob));
+    // The model's runtime (assertion reports, random state) goes through the thread's
+    // context; another transport in this thread may have made its own the current one.
+    Verilated::threadContextp(ctx_.get());
+    // Idle cycles only between words: a word once offered stays offered until the core
+    // takes it (AXI4-Stream; rheo_stream_checker asserts it).
+    const bool offer = !in_reset_ && !in_.empty() &&
+                       (offered_ || !(opt_.input_idle_prob > 0 && coin(opt_.input_idle_prob)));
     model_->s_axis_tvalid = offer;
     model_->s_axis_tdata = offer ? in_.front() : 0;
     model_->s_axis_tlast = offer && in_.size() == 1;
-    model_->m_axis_tready = !(opt_.output_stall_prob > 0 && coin(opt_.output_stall_prob));
+    model_->m_axis_tready =
+        !in_reset_ && !(opt_.output_stall_prob > 0 && coin(opt_.output_stall_prob));
     model_->clk_i = 0;
-    model_->eval();
+    eval();
     const bool in_fire = model_->s_axis_tvalid && model_->s_axis_tready;
     const bool out_fire = model_->m_axis_tvalid && model_->m_axis_tready;
     const std::uint32_t out_word = model_->m_axis_tdata;
@@ -111,9 +151,10 @@ class Harness : public VerilatorTransport::Impl {
     if (fst_ && tracing) fst_->dump(ctx_->time());
     ctx_->timeInc(1);
     model_->clk_i = 1;
-    model_->eval();
+    eval();
     if (fst_ && tracing) fst_->dump(ctx_->time());
     ctx_->timeInc(1);
+    offered_ = offer && !in_fire;
     if (in_fire) in_.pop_front();
     if (out_fire) {
       out_.push_back(out_word);
@@ -128,7 +169,10 @@ class Harness : public VerilatorTransport::Impl {
   }
   bool coin(double p) { return std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < p; }
 
+  static constexpr int kResetClocks = 4;
   VerilatorOptions opt_;
+  bool in_reset_ = false;
+  bool offered_ = false;  // the word at in_.front() was offered and not yet taken
   std::mt19937_64 rng_;
   std::unique_ptr<VerilatedContext> ctx_;
   std::unique_ptr<M> model_;
@@ -139,7 +183,11 @@ class Harness : public VerilatorTransport::Impl {
 }  // namespace
 
 VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
-  if (o.maxwell_arm) {
+  if (o.power_up_seed != 0) {
+    if (o.lanes != 1 || o.maxwell_arm)
+      throw Error("RTL core with random power-up state: built for 1 lane without the arm");
+    impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
+  } else if (o.maxwell_arm) {
     if (o.lanes != 1)
       throw Error("RTL core with the Maxwell arm: lanes = " + std::to_string(o.lanes) +
                   ": built for 1");

@@ -1,7 +1,9 @@
 // In-process transport to the verilated RTL core (rtl/rheo_core.sv). Words are pushed
 // into s_axis and pulled from m_axis clock by clock, with optional random idle cycles on
 // the input side and random back-pressure on the output side (seeded), so every run also
-// exercises the stream handshakes. Optionally writes an FST waveform.
+// exercises the stream handshakes. Optionally writes an FST waveform. The cores are built
+// with --assert: a failed protocol or state check in the RTL (rtl/rheo_stream_checker.sv)
+// stops the simulation and send()/receive() throw rheo::Error.
 #pragma once
 
 #include <cstdint>
@@ -13,12 +15,16 @@
 namespace rheo::driver {
 
 struct VerilatorOptions {
-  int lanes = 1;                   // 1 or 2 (the two verilated variants)
+  int lanes = 1;                   // 1, 2 or 4 (the verilated variants)
   bool maxwell_arm = false;        // the MaxwellArm = 1 variant (1 lane)
   std::string trace_fst;           // empty: no waveform
   double input_idle_prob = 0.0;    // probability of holding s_axis_tvalid low in a cycle
   double output_stall_prob = 0.0;  // probability of holding m_axis_tready low in a cycle
   std::uint64_t seed = 1;
+  // Non-zero: the one-lane core built with --x-initial unique, every register and memory
+  // bit without a reset starting from a random value drawn from this seed (the other
+  // variants start them at zero).
+  std::uint32_t power_up_seed = 0;
   std::uint64_t timeout_cycles = 2'000'000'000;  // per receive() without progress
 };
 
@@ -33,12 +39,12 @@ class VerilatorTransport : public Transport {
   // Lengths of the response frames seen so far (words between m_axis_tlast markers).
   const std::vector<std::size_t>& output_frame_lengths() const;
   // With a trace file: dump waveforms only while enabled (on from the start).
-  void set_tracing(bool on);
-  std::uint64_t cycles() const;  // clocks simulated so far
-  double wall_seconds() const;   // wall time spent clocking the model
+  void set_tracing(bool on) override;
+  std::uint64_t cycles() const override;  // clocks simulated so far
+  double wall_seconds() const override;   // wall time spent clocking the model
   // Simulation time of the next clock in the FST's time units (two per clock: the clock's
   // low half, then its rising edge).
-  std::uint64_t trace_time() const;
+  std::uint64_t trace_time() const override;
 
   class Impl;
 

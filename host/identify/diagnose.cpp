@@ -22,9 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Plate movements below this per sample [mm] count as standing still.
-constexpr double kStillMm = 1e-6;
-
 std::string fmt(double v, int digits = 3) {
   std::ostringstream s;
   s << std::setprecision(digits) << v;
@@ -48,28 +45,15 @@ std::optional<double> holdout_rmse(const std::vector<Measurement>& holdout, cons
   return force_rmse(holdout, f.spec, f.values, sim);
 }
 
-std::vector<double> residuals(const Measurement& m, const FitResult& f,
-                              const SimulationOptions& sim) {
-  const Prediction pr = simulate(m, to_params(f.spec, f.values), sim);
+std::vector<double> residuals(const Measurement& m, const Prediction& pr) {
   std::vector<double> r(m.size());
   for (std::size_t i = 0; i < m.size(); ++i) r[i] = m.force_N[i] - pr.force_N[i];
   return r;
 }
 
-// Mean of r over samples [a, b) of one phase, in order.
-double mean_of(const std::vector<double>& r, const std::vector<std::size_t>& idx, std::size_t a,
-               std::size_t b) {
-  double s = 0.0;
-  for (std::size_t k = a; k < b; ++k) s += r[idx[k]];
-  return b > a ? s / static_cast<double>(b - a) : 0.0;
-}
-
-std::vector<std::size_t> indices_of(const std::vector<Phase>& ph, Phase p) {
-  std::vector<std::size_t> idx;
-  for (std::size_t i = 0; i < ph.size(); ++i) {
-    if (ph[i] == p) idx.push_back(i);
-  }
-  return idx;
+std::vector<double> residuals(const Measurement& m, const FitResult& f,
+                              const SimulationOptions& sim) {
+  return residuals(m, predict(m, f.spec, f.values, sim));
 }
 
 std::string param_list(const FitResult& f, std::size_t from) {
@@ -81,153 +65,50 @@ std::string param_list(const FitResult& f, std::size_t from) {
   return s.str();
 }
 
-// The sentence that says what in the baseline's residuals shows the finding, with numbers.
+// The sentence that says what in the baseline's residuals shows the finding, with numbers:
+// the named cause's explanation and the gain, or why no candidate was named.
 std::string evidence_sentence(const Diagnosis& d, const Measurement& m,
                               const SimulationOptions& sim) {
-  const std::vector<Phase> ph = phases_of(m);
-  const std::vector<double> rb = residuals(m, d.baseline, sim);
   std::ostringstream s;
   s << std::setprecision(3);
   const double sigma = d.noise_sigma_N;
-  const FitResult& ext = d.extended();
-  auto gain_clause = [&]() {
-    std::ostringstream g;
-    g << std::setprecision(3);
-    g << " The extended model (" << param_list(ext, 3) << ") lowers the fit RMSE from "
-      << d.baseline.rmse_force_N << " N to " << ext.rmse_force_N << " N (AIC down by "
-      << d.baseline.aic - ext.aic << ")";
-    if (d.baseline_rmse_holdout_N && d.extended_holdout()) {
-      g << " and the held-out RMSE from " << *d.baseline_rmse_holdout_N << " N to "
-        << *d.extended_holdout() << " N";
-    }
-    g << ".";
-    return g.str();
-  };
-  switch (d.cause) {
-    case Extension::kSecondRelaxationTime: {
-      const auto idx = indices_of(ph, Phase::kHold);
-      const std::size_t n = idx.size();
-      s << "During the hold the baseline residual (measured - model) is structured, not noise: "
-           "its mean is "
-        << mean_of(rb, idx, 0, n / 3) << " N over the first third of the hold, "
-        << mean_of(rb, idx, n / 3, 2 * n / 3) << " N over the middle third and "
-        << mean_of(rb, idx, 2 * n / 3, n) << " N over the last third, against a noise level of "
-        << sigma << " N; one exponential (time constant "
-        << (d.baseline.values[1] + d.baseline.values[2]) / d.baseline.values[0]
-        << " s) cannot follow a relaxation with two time scales; with a parallel Maxwell arm "
-           "the model relaxes with time constants "
-        << (ext.values[1] + ext.values[2]) / ext.values[0] << " s and "
-        << ext.values[4] / ext.values[3] << " s.";
-      break;
-    }
-    case Extension::kRelaxationSpectrum: {
-      const auto idx = indices_of(ph, Phase::kHold);
-      const std::size_t n = idx.size();
-      s << "The relaxation is broader than the baseline's exponentials: during the hold the "
-           "baseline residual (measured - model) has mean "
-        << mean_of(rb, idx, 0, n / 10) << " N over the first tenth, "
-        << mean_of(rb, idx, n / 10, n / 2) << " N up to the middle and "
-        << mean_of(rb, idx, n / 2, n) << " N over the second half, against a noise level of "
-        << sigma << " N; a power-law spectrum, G(t) = " << ext.values[3] << " Pa (t / "
-        << std::sqrt(ext.spec.spectrum_t_lo * ext.spec.spectrum_t_hi) << " s)^-"
-        << ext.values[4] << " from " << ext.spec.spectrum_t_lo << " s to "
-        << ext.spec.spectrum_t_hi
-        << " s (parallel Maxwell arms with log-spaced times), follows it.";
-      break;
-    }
-    case Extension::kSensorOffset: {
-      auto idx = indices_of(ph, Phase::kAfterRelease);
-      const Prediction pr = simulate(m, to_params(d.baseline.spec, d.baseline.values), sim);
-      double sum = 0.0;
-      int n = 0;
-      for (std::size_t i = 0; i < m.size(); ++i) {
-        if (!pr.contact[i]) {
-          sum += m.force_N[i];
-          ++n;
-        }
+  if (d.chosen < 0) {
+    int best = -1;
+    for (std::size_t i = 0; i < d.candidates.size(); ++i) {
+      if (best < 0 || d.candidates[i].fit.aic < d.candidates[best].fit.aic) {
+        best = static_cast<int>(i);
       }
-      s << "Whenever the plate is off the specimen (" << n
-        << " samples, the model force is exactly 0 there) the load cell still reads "
-        << (n ? sum / n : 0.0) << " N on average (noise level " << sigma
-        << " N): a constant offset of the sensor, not material behaviour.";
-      break;
     }
-    case Extension::kSensorLag: {
-      // Samples right after the plate starts moving and right after it stops.
-      double sum_start = 0.0;
-      int n_start = 0;
-      for (std::size_t i = 1; i < m.size(); ++i) {
-        if (ph[i] != ph[i - 1]) {
-          for (std::size_t k = i; k < std::min(m.size(), i + 5); ++k) {
-            sum_start += std::abs(rb[k]);
-            ++n_start;
-          }
-        }
+    s << "No candidate is named: the baseline fit RMSE is " << d.baseline.rmse_force_N
+      << " N against a noise level of " << sigma << " N";
+    if (best >= 0) {
+      const auto& c = d.candidates[best];
+      s << "; the lowest-AIC candidate (" << c.fit.spec.cause_name() << ", AIC drop "
+        << d.baseline.aic - c.fit.aic;
+      if (c.rmse_holdout_N && d.baseline_rmse_holdout_N) {
+        s << ", held-out RMSE " << *c.rmse_holdout_N << " N vs " << *d.baseline_rmse_holdout_N
+          << " N";
       }
-      s << "The baseline misses most right where the plate changes speed: the mean absolute "
-           "residual over the 5 samples after each phase change is "
-        << (n_start ? sum_start / n_start : 0.0) << " N against a noise level of " << sigma
-        << " N, with the measured force trailing the model after each change; a first-order "
-           "load-cell lag of "
-        << ext.values[3] << " s removes it.";
-      break;
+      s << ") is not named: " << c.judgement.reason;
     }
-    case Extension::kStrainHardening: {
-      const auto idx = indices_of(ph, Phase::kPush);
-      std::vector<std::size_t> moving;
-      for (auto i : idx) {
-        if (m.plate_mm[i] > kStillMm) moving.push_back(i);
-      }
-      const std::size_t n = moving.size();
-      s << "During the push the baseline residual is bowed: mean " << mean_of(rb, moving, 0, n / 3)
-        << " N over the first third of the push, " << mean_of(rb, moving, n / 3, 2 * n / 3)
-        << " N over the middle and " << mean_of(rb, moving, 2 * n / 3, n)
-        << " N over the last third (noise level " << sigma
-        << " N): the measured force curves up with strain faster than a linear spring allows; "
-           "a stiffness growing with the square of the strain (hardening "
-        << ext.values[3] << ") follows it.";
-      break;
-    }
-    case Extension::kForceDependentDamping: {
-      const auto push = indices_of(ph, Phase::kPush);
-      const auto hold = indices_of(ph, Phase::kHold);
-      double rms_push = 0.0, rms_hold = 0.0;
-      for (auto i : push) rms_push += rb[i] * rb[i];
-      for (auto i : hold) rms_hold += rb[i] * rb[i];
-      rms_push = push.empty() ? 0.0 : std::sqrt(rms_push / push.size());
-      rms_hold = hold.empty() ? 0.0 : std::sqrt(rms_hold / hold.size());
-      s << "The baseline cannot give the high-force part of the test its own flow rate: residual "
-           "RMS "
-        << rms_push << " N during the push and " << rms_hold
-        << " N during the hold against a noise level of " << sigma
-        << " N, largest where the force is highest; a series viscosity that falls by a factor "
-        << ext.values[4] << " as the stress rises to " << ext.values[3] << " Pa follows it.";
-      break;
-    }
-    case Extension::kNone: {
-      int best = -1;
-      for (std::size_t i = 0; i < d.candidates.size(); ++i) {
-        if (best < 0 || d.candidates[i].fit.aic < d.candidates[best].fit.aic) {
-          best = static_cast<int>(i);
-        }
-      }
-      s << "No candidate is named: the baseline fit RMSE is " << d.baseline.rmse_force_N
-        << " N against a noise level of " << sigma << " N";
-      if (best >= 0) {
-        const auto& c = d.candidates[best];
-        s << "; the lowest-AIC candidate (" << cause_name(c.fit.spec.extension) << ", AIC drop "
-          << d.baseline.aic - c.fit.aic;
-        if (c.rmse_holdout_N && d.baseline_rmse_holdout_N) {
-          s << ", held-out RMSE " << *c.rmse_holdout_N << " N vs " << *d.baseline_rmse_holdout_N
-            << " N";
-        }
-        s << ") is not named: " << c.judgement.reason;
-      }
-      s << ".";
-      return s.str();
-    }
+    s << ".";
+    return s.str();
   }
-  return s.str() + gain_clause();
+  const FitResult& ext = d.extended();
+  const std::vector<Phase> ph = phases_of(m);
+  const Prediction pb = predict(m, d.baseline.spec, d.baseline.values, sim);
+  const std::vector<double> rb = residuals(m, pb);
+  const EvidenceContext context{m, ph, pb, rb, d.baseline, ext, ext.spec.scales, sigma};
+  s << ext.spec.cause->explain(context);
+  s << " The extended model (" << param_list(ext, kBaselineParams)
+    << ") lowers the fit RMSE from " << d.baseline.rmse_force_N << " N to " << ext.rmse_force_N
+    << " N (AIC down by " << d.baseline.aic - ext.aic << ")";
+  if (d.baseline_rmse_holdout_N && d.extended_holdout()) {
+    s << " and the held-out RMSE from " << *d.baseline_rmse_holdout_N << " N to "
+      << *d.extended_holdout() << " N";
+  }
+  s << ".";
+  return s.str();
 }
 
 std::string phase_table(const Diagnosis& d) {
@@ -245,8 +126,8 @@ std::string phase_table(const Diagnosis& d) {
 
 void write_series(const fs::path& path, const Measurement& m, const FitResult& base,
                   const FitResult& ext, const SimulationOptions& sim) {
-  const Prediction pb = simulate(m, to_params(base.spec, base.values), sim);
-  const Prediction pe = simulate(m, to_params(ext.spec, ext.values), sim);
+  const Prediction pb = predict(m, base.spec, base.values, sim);
+  const Prediction pe = predict(m, ext.spec, ext.values, sim);
   const std::vector<Phase> ph = phases_of(m);
   std::ostringstream s;
   s << "# time_s plate_mm measured_N baseline_N extended_N resid_baseline_N resid_extended_N "
@@ -318,70 +199,6 @@ double n_effective(double n, double lag1) {
   return std::clamp(n * (1.0 - lag1) / (1.0 + lag1), 1.0, n);
 }
 
-// Why a fitted extension is physically implausible ("" when it is not): each cause's
-// parameters have a range outside which they describe something other than the cause.
-std::string implausible(const FitResult& f, const DataScales& s) {
-  const auto& v = f.values;
-  std::ostringstream why;
-  switch (f.spec.extension) {
-    case Extension::kNone:
-      break;
-    case Extension::kSecondRelaxationTime: {
-      const double tau1 = (v[1] + v[2]) / v[0], tau2 = v[4] / v[3];
-      const double ratio = std::max(tau1, tau2) / std::min(tau1, tau2);
-      if (ratio < 1.5) {
-        why << "the two relaxation times (" << fmt(tau1) << " s, " << fmt(tau2)
-            << " s) are within a factor 1.5 of each other: not a second time scale";
-      } else if (tau2 < 0.5 * s.min_gap_s || tau2 > 10.0 * s.duration_s) {
-        why << "the second relaxation time " << fmt(tau2)
-            << " s lies outside what the record resolves (" << fmt(0.5 * s.min_gap_s) << " to "
-            << fmt(10.0 * s.duration_s) << " s)";
-      }
-      break;
-    }
-    case Extension::kForceDependentDamping:
-      if (v[4] > 300.0) {
-        why << "damping ratio " << fmt(v[4])
-            << " above 300: the series damper all but switches off, a stand-in for another "
-               "effect";
-      }
-      break;
-    case Extension::kStrainHardening: {
-      const double stiffening = v[3] * s.peak_strain * s.peak_strain;
-      if (stiffening < 0.01) {
-        why << "hardening stiffens the spring by " << fmt(100.0 * stiffening)
-            << " % at the peak strain: no effect worth the name";
-      } else if (stiffening > 100.0) {
-        why << "hardening stiffens the spring " << fmt(stiffening)
-            << " times at the peak strain: not a material law";
-      }
-      break;
-    }
-    case Extension::kSensorLag:
-      if (v[3] > 1.0 || v[3] > 0.05 * s.duration_s) {
-        why << "a load-cell lag of " << fmt(v[3])
-            << " s: load cells and their amplifiers answer within milliseconds (a lag above 1 s "
-               "or 5 % of the record is a material time scale, not a sensor)";
-      }
-      break;
-    case Extension::kRelaxationSpectrum:
-      // The spectrum's modulus at the window's middle against the baseline spring: below 1 %
-      // it moves the force by less than the baseline's own uncertainty.
-      if (v[3] < 0.01 * v[0]) {
-        why << "the spectrum's modulus " << fmt(v[3]) << " Pa is below 1 % of the Voigt spring "
-            << fmt(v[0]) << " Pa: no effect worth the name";
-      }
-      break;
-    case Extension::kSensorOffset:
-      if (std::abs(v[3]) > 0.1 * s.peak_force_N) {
-        why << "an offset of " << fmt(v[3]) << " N is more than 10 % of the peak force "
-            << fmt(s.peak_force_N) << " N: not a tare error";
-      }
-      break;
-  }
-  return why.str();
-}
-
 CandidateJudgement judge(const CandidateFit& c, const ResidualStats& base_fit,
                          const ResidualStats& base_holdout,
                          const std::vector<Measurement>& fit_data,
@@ -428,7 +245,9 @@ CandidateJudgement judge(const CandidateFit& c, const ResidualStats& base_fit,
       }
     }
     if (why.str().empty()) {
-      const std::string range = implausible(c.fit, scales);
+      const std::string range =
+          c.fit.spec.cause ? c.fit.spec.cause->implausible(FittedValues(c.fit.values), scales)
+                           : std::string();
       if (!range.empty()) why << "not identified: " << range;
     }
   }
@@ -470,43 +289,6 @@ std::string remaining_misfit(const Diagnosis& d) {
 
 }  // namespace
 
-std::string phase_name(Phase p) {
-  switch (p) {
-    case Phase::kPush:
-      return "push";
-    case Phase::kHold:
-      return "hold";
-    case Phase::kRelease:
-      return "release";
-    case Phase::kAfterRelease:
-      return "after_release";
-  }
-  return "push";
-}
-
-std::vector<Phase> phases_of(const Measurement& m) {
-  std::vector<Phase> out(m.size(), Phase::kPush);
-  bool pushed = false;
-  for (std::size_t i = 0; i < m.size(); ++i) {
-    // Direction of the plate over the interval that ends at this sample (the first sample
-    // looks at the ramp from 0 at t = 0, see specimen.hpp).
-    const double prev = i == 0 ? 0.0 : m.plate_mm[i - 1];
-    const double dp = m.plate_mm[i] - prev;
-    if (dp > kStillMm) {
-      out[i] = Phase::kPush;
-      pushed = true;
-    } else if (dp < -kStillMm) {
-      out[i] = Phase::kRelease;
-    } else if (m.plate_mm[i] > kStillMm) {
-      out[i] = Phase::kHold;
-      pushed = true;
-    } else {
-      out[i] = pushed ? Phase::kAfterRelease : Phase::kPush;
-    }
-  }
-  return out;
-}
-
 double noise_from_second_differences(const Measurement& m) {
   if (m.size() < 3) return 0.0;
   // Second differences are dominated by the curve at kinks (phase changes); a robust
@@ -540,11 +322,12 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
   d.noise_sigma_N = noise_from_second_differences(fit_data.front());
   d.baseline = fit_model(fit_data, model_spec(Extension::kNone, scales), {}, options.fit);
   d.baseline_rmse_holdout_N = holdout_rmse(holdout, d.baseline, sim);
-  const int fits = 1 + static_cast<int>(all_extensions().size());
+  // The causes as registered now: a registration during the diagnosis does not change it.
+  const std::vector<CausePtr> extensions = registered_causes();
+  const int fits = 1 + static_cast<int>(extensions.size());
   if (options.on_model_fitted) options.on_model_fitted(1, fits);
   // The candidates are independent fits: they run on every core (each fit is one thread;
   // the simulation and Ceres hold no shared state).
-  const std::vector<Extension>& extensions = all_extensions();
   std::vector<std::optional<CandidateFit>> results(extensions.size());
   std::vector<std::exception_ptr> errors(extensions.size());
   std::atomic<std::size_t> next{0};
@@ -596,7 +379,7 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
     if (score > best) {
       best = score;
       d.chosen = static_cast<int>(i);
-      d.cause = d.candidates[i].fit.spec.extension;
+      d.cause = d.candidates[i].fit.spec.cause_name();
     }
   }
 
@@ -639,8 +422,9 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
     finer.mesh = sim.mesh.resolved(m.geometry).finer();
     d.finer_mesh = finer.mesh.text();
     try {
-      const SpecimenParams params = to_params(d.extended().spec, d.extended().values);
-      const Prediction a = simulate(m, params, sim), b = simulate(m, params, finer);
+      const FitResult& ext = d.extended();
+      const Prediction a = predict(m, ext.spec, ext.values, sim),
+                       b = predict(m, ext.spec, ext.values, finer);
       double diff = 0.0, ref = 0.0;
       for (std::size_t i = 0; i < m.size(); ++i) {
         diff += (b.force_N[i] - a.force_N[i]) * (b.force_N[i] - a.force_N[i]);
@@ -719,7 +503,7 @@ nlohmann::json diagnosis_json(const Diagnosis& d) {
                    {"rmse_holdout_N", opt(d.baseline_rmse_holdout_N)},
                    {"aic", d.baseline.aic},
                    {"unidentifiable", unidentifiable_json(d.baseline)}};
-  j["finding"] = {{"cause", cause_name(d.cause)}, {"evidence", d.evidence}};
+  j["finding"] = {{"cause", d.cause}, {"evidence", d.evidence}};
   j["extended"] = {{"model", ext.spec.name()},
                    {"params", params(ext)},
                    {"rmse_fit_N", ext.rmse_force_N},
@@ -748,7 +532,7 @@ nlohmann::json diagnosis_json(const Diagnosis& d) {
   j["candidates"] = json::array();
   for (const auto& c : d.candidates) {
     const CandidateJudgement& cj = c.judgement;
-    j["candidates"].push_back({{"cause", cause_name(c.fit.spec.extension)},
+    j["candidates"].push_back({{"cause", c.fit.spec.cause_name()},
                                {"aic", c.fit.aic},
                                {"rmse_holdout_N", opt(c.rmse_holdout_N)},
                                {"residual_lag1", cj.lag1},
@@ -782,9 +566,7 @@ nlohmann::json fit_json(const FitResult& f) {
               {"n_force", f.n_force},
               {"starts", f.starts},
               {"iterations", f.iterations}};
-  if (f.spec.extension == Extension::kRelaxationSpectrum) {
-    out["spectrum_window_s"] = {f.spec.spectrum_t_lo, f.spec.spectrum_t_hi};
-  }
+  if (f.spec.cause) f.spec.cause->annotate_fit_json(f.spec.scales, out);
   return out;
 }
 
@@ -875,7 +657,7 @@ void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
     for (std::string l; std::getline(lines, l);) r << "- " << l.substr(l.find(' ') + 1) << "\n";
     r << "\n";
   }
-  r << "## Finding: `" << cause_name(d.cause) << "`\n\n" << d.evidence << "\n\n";
+  r << "## Finding: `" << d.cause << "`\n\n" << d.evidence << "\n\n";
   r << "| | model | fit RMSE [N] | held-out RMSE [N] | AIC |\n|---|---|---|---|---|\n";
   auto row = [&](const char* label, const nlohmann::json& m) {
     r << "| " << label << " | " << m["model"].get<std::string>() << " | " << m["rmse_fit_N"].dump()
@@ -902,12 +684,12 @@ void write_diagnosis(const std::string& dir_name, const Diagnosis& d,
        "|---|---|---|---|---|---|---|---|\n";
   for (const auto& c : d.candidates) {
     const CandidateJudgement& cj = c.judgement;
-    r << "| " << cause_name(c.fit.spec.extension) << " | " << fmt(d.baseline.aic - c.fit.aic)
+    r << "| " << c.fit.spec.cause_name() << " | " << fmt(d.baseline.aic - c.fit.aic)
       << " | " << fmt(cj.delta_aic_effective) << " | " << fmt(100.0 * cj.explained) << " % | "
       << (c.rmse_holdout_N ? fmt(*c.rmse_holdout_N, 4) : std::string("-")) << " | "
       << (cj.holdout_delta_aic_effective ? fmt(*cj.holdout_delta_aic_effective)
                                          : std::string("-"))
-      << " | " << param_list(c.fit, 3) << " | " << (cj.qualifies ? "qualifies" : cj.reason)
+      << " | " << param_list(c.fit, kBaselineParams) << " | " << (cj.qualifies ? "qualifies" : cj.reason)
       << " |\n";
   }
   r << "\n## Residuals by phase (first fit file, measured - model)\n\n" << phase_table(d);

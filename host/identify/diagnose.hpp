@@ -12,15 +12,9 @@
 #include <vector>
 
 #include "host/identify/fit.hpp"
+#include "host/identify/phases.hpp"
 
 namespace rheo::identify {
-
-enum class Phase { kPush, kHold, kRelease, kAfterRelease };
-std::string phase_name(Phase p);
-// Phase of every sample from the plate history: push (plate moving down, or at rest before
-// the first push), hold (plate still and down), release (plate moving up), after release
-// (plate back at 0 after a push).
-std::vector<Phase> phases_of(const Measurement& m);
 
 // Noise level of a force record from its second differences (independent of any model):
 // sigma = rms(f[i+1] - 2 f[i] + f[i-1]) / sqrt(6), exact for white noise on a smooth curve.
@@ -93,9 +87,9 @@ nlohmann::json unidentifiable_json(const FitResult& f);
 struct Diagnosis {
   FitResult baseline;
   std::optional<double> baseline_rmse_holdout_N;
-  std::vector<CandidateFit> candidates;  // one per extension, in all_extensions() order
+  std::vector<CandidateFit> candidates;  // one per registered cause, in registry order
   int chosen = -1;                       // index into candidates, -1 = none
-  Extension cause = Extension::kNone;
+  std::string cause = Extension::kNone;  // the named cause's name
   std::string evidence;
   std::vector<PhaseResiduals> phases;  // on the (first) fit file
   double noise_sigma_N = 0.0;          // from second differences of the fit data

@@ -49,12 +49,10 @@ int residual_count(const std::vector<Measurement>& data, const FitOptions& o) {
 // trust region shrinks instead of accepting garbage.
 bool residuals_of(const std::vector<Measurement>& data, const ModelSpec& spec,
                   const std::vector<double>& values, const FitOptions& o, double* r) {
-  SpecimenParams p;
   try {
-    p = to_params(spec, values);
     int k = 0;
     for (const auto& m : data) {
-      const Prediction pr = simulate(m, p, o.simulation);
+      const Prediction pr = predict(m, spec, values, o.simulation);
       for (std::size_t i = 0; i < m.size(); ++i) r[k++] = pr.force_N[i] - m.force_N[i];
       if (o.use_surface) {
         for (std::size_t i = 0; i < m.size(); ++i) {
@@ -189,8 +187,10 @@ void flag_and_interval(const ModelSpec& spec, const std::vector<double>& x,
 
 }  // namespace
 
+std::string ModelSpec::cause_name() const { return cause ? cause->name() : Extension::kNone; }
+
 std::string ModelSpec::name() const {
-  return extension == Extension::kNone ? "three_element" : "three_element+" + cause_name(extension);
+  return cause ? "three_element+" + cause->name() : "three_element";
 }
 
 DataScales data_scales(const std::vector<Measurement>& data) {
@@ -226,50 +226,24 @@ DataScales data_scales(const std::vector<Measurement>& data) {
   return s;
 }
 
-ModelSpec model_spec(Extension e, const DataScales& s) {
+ModelSpec model_spec(const std::string& cause, const DataScales& s) {
+  const std::string name = extension_from_name(cause);
+  return model_spec(name == Extension::kNone ? nullptr : find_cause(name), s);
+}
+
+ModelSpec model_spec(CausePtr cause, const DataScales& s) {
   const double M = s.modulus_Pa;
   const double eta_lo = M * s.min_gap_s * 0.1;
   const double eta_hi = M * s.duration_s * 1e3;
   ModelSpec spec;
-  spec.extension = e;
   spec.params = {{"E1_Pa", M * 1e-3, M * 1e3, true},
                  {"c1_Pa_s", eta_lo, eta_hi, true},
                  {"c2_Pa_s", eta_lo, eta_hi, true}};
-  switch (e) {
-    case Extension::kNone:
-      break;
-    case Extension::kSecondRelaxationTime:
-      spec.params.push_back({"E2_Pa", M * 1e-4, M * 1e3, true});
-      spec.params.push_back({"c3_Pa_s", eta_lo, eta_hi, true});
-      break;
-    case Extension::kForceDependentDamping:
-      spec.params.push_back({"damping_stress_Pa", M * 1e-4, M * 1e2, true});
-      // Above 1000 the series damper all but switches off: a stand-in for another effect
-      // (diagnose calls it implausible), and a stiff explicit edge update.
-      spec.params.push_back({"damping_ratio", 1.001, 1e3, true});
-      break;
-    case Extension::kStrainHardening:
-      spec.params.push_back({"hardening", 1e-4, 1e4, true});
-      break;
-    case Extension::kSensorLag:
-      spec.params.push_back({"lag_s", std::max(1e-4, s.min_gap_s * 1e-2), s.duration_s, true});
-      break;
-    case Extension::kSensorOffset:
-      spec.params.push_back({"offset_N", -s.peak_force_N, s.peak_force_N, false});
-      break;
-    case Extension::kRelaxationSpectrum:
-      // The arms' fastest time is a third of the window's start (sim/relaxation_spectrum.hpp):
-      // starting at three sample intervals keeps it at one interval, which the object
-      // model's step resolves without refinement. A record sampled on a log time axis has
-      // its shortest interval far below its first sample time, which is as early as such a
-      // record resolves anything (and the fastest arm sets every step of the object model).
-      spec.spectrum_t_lo = std::max(3.0 * s.min_gap_s, s.first_time_s);
-      spec.spectrum_t_hi = std::max(s.duration_s, 10.0 * spec.spectrum_t_lo);
-      spec.params.push_back({"spectrum_modulus_Pa", M * 1e-4, M * 1e3, true});
-      // An exponent at 0 or 1 is no power law (a spring, a damper): the range stops short.
-      spec.params.push_back({"spectrum_alpha", 0.02, 0.98, false});
-      break;
+  if (cause) {
+    for (ParamSpec& p : cause->params(s)) spec.params.push_back(std::move(p));
   }
+  spec.cause = std::move(cause);
+  spec.scales = s;
   return spec;
 }
 
@@ -279,43 +253,23 @@ SpecimenParams to_params(const ModelSpec& spec, const std::vector<double>& v) {
   p.E1 = v[0];
   p.c1 = v[1];
   p.c2 = v[2];
-  switch (spec.extension) {
-    case Extension::kNone:
-      break;
-    case Extension::kSecondRelaxationTime:
-      p.E2 = v[3];
-      p.c3 = v[4];
-      break;
-    case Extension::kForceDependentDamping:
-      p.damping_stress = v[3];
-      p.damping_ratio = v[4];
-      break;
-    case Extension::kStrainHardening:
-      p.hardening = v[3];
-      break;
-    case Extension::kSensorLag:
-      p.lag_s = v[3];
-      break;
-    case Extension::kSensorOffset:
-      p.offset_N = v[3];
-      break;
-    case Extension::kRelaxationSpectrum:
-      p.spectrum_modulus = v[3];
-      p.spectrum_alpha = v[4];
-      p.spectrum_t_lo = spec.spectrum_t_lo;
-      p.spectrum_t_hi = spec.spectrum_t_hi;
-      break;
-  }
+  if (spec.cause) spec.cause->apply(FittedValues(v), spec.scales, p);
   return p;
+}
+
+Prediction predict(const Measurement& m, const ModelSpec& spec, const std::vector<double>& values,
+                   const SimulationOptions& sim) {
+  Prediction pr = simulate(m, to_params(spec, values), sim);
+  if (spec.cause) spec.cause->observe(FittedValues(values), spec.scales, m, pr);
+  return pr;
 }
 
 double force_rmse(const std::vector<Measurement>& data, const ModelSpec& spec,
                   const std::vector<double>& values, const SimulationOptions& sim) {
-  const SpecimenParams p = to_params(spec, values);
   double ss = 0.0;
   std::size_t n = 0;
   for (const auto& m : data) {
-    const Prediction pr = simulate(m, p, sim);
+    const Prediction pr = predict(m, spec, values, sim);
     for (std::size_t i = 0; i < m.size(); ++i) ss += std::pow(pr.force_N[i] - m.force_N[i], 2);
     n += m.size();
   }
@@ -325,46 +279,13 @@ double force_rmse(const std::vector<Measurement>& data, const ModelSpec& spec,
 std::vector<std::vector<double>> extension_starts(const ModelSpec& spec,
                                                   const std::vector<double>& base,
                                                   const DataScales& s) {
+  const std::vector<double> baseline(base.begin(), base.begin() + kBaselineParams);
+  if (!spec.cause) return {baseline};
   std::vector<std::vector<double>> out;
-  const double tau1 = (base[1] + base[2]) / base[0];
-  auto with = [&](std::initializer_list<double> extra) {
-    std::vector<double> v(base.begin(), base.begin() + 3);
-    v.insert(v.end(), extra);
-    out.push_back(v);
-  };
-  switch (spec.extension) {
-    case Extension::kNone:
-      out.push_back({base[0], base[1], base[2]});
-      break;
-    case Extension::kSecondRelaxationTime:
-      for (double ratio : {0.1, 10.0}) {
-        for (double share : {0.3, 1.0}) with({share * base[0], share * base[0] * tau1 * ratio});
-      }
-      with({base[0], base[0] * s.duration_s * 3.0});
-      break;
-    case Extension::kForceDependentDamping: {
-      const double stress = s.peak_force_N / 1.0;  // refined below in Pa
-      (void)stress;
-      const double peak_stress = s.modulus_Pa * 0.5;
-      for (double frac : {0.1, 1.0}) {
-        for (double ratio : {3.0, 30.0}) with({frac * peak_stress, ratio});
-      }
-      break;
-    }
-    case Extension::kStrainHardening:
-      for (double h : {0.1, 1.0, 10.0}) with({h});
-      break;
-    case Extension::kSensorLag:
-      for (double f : {0.003, 0.03, 0.3}) with({std::max(f * tau1, 2.0 * s.min_gap_s)});
-      break;
-    case Extension::kSensorOffset:
-      for (double f : {-0.02, 0.02}) with({f * s.peak_force_N});
-      break;
-    case Extension::kRelaxationSpectrum:
-      for (double share : {0.1, 1.0}) {
-        for (double alpha : {0.2, 0.6}) with({share * base[0], alpha});
-      }
-      break;
+  for (const std::vector<double>& own : spec.cause->starts(FittedValues(baseline), s)) {
+    std::vector<double> v = baseline;
+    v.insert(v.end(), own.begin(), own.end());
+    out.push_back(std::move(v));
   }
   return out;
 }
@@ -401,7 +322,7 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
   const DataScales s = data_scales(data);
   const std::size_t k = spec.params.size();
   if (starts.empty()) {
-    if (spec.extension == Extension::kNone) {
+    if (!spec.cause) {
       for (double tau_frac : {0.02, 0.2}) {
         for (double c1_share : {0.1, 0.5}) {
           const double eta = s.modulus_Pa * tau_frac * s.duration_s;
@@ -472,11 +393,10 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
   for (std::size_t i = 0; i < k; ++i) best.values[i] = to_physical(spec.params[i], best_x[i]);
 
   // Force residual statistics (the likelihood all models share).
-  const SpecimenParams p = to_params(spec, best.values);
   best.rss_force = 0.0;
   best.n_force = 0;
   for (const auto& m : data) {
-    const Prediction pr = simulate(m, p, options.simulation);
+    const Prediction pr = predict(m, spec, best.values, options.simulation);
     double ss = 0.0;
     for (std::size_t i = 0; i < m.size(); ++i) ss += std::pow(pr.force_N[i] - m.force_N[i], 2);
     best.rss_force += ss;

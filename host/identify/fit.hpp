@@ -9,47 +9,36 @@
 #include <string>
 #include <vector>
 
+#include "host/identify/cause.hpp"
 #include "host/identify/measurement.hpp"
 #include "host/identify/specimen.hpp"
 
 namespace rheo::identify {
 
-// One fitted parameter: physical value, its bounds and whether it is optimised in log space.
-struct ParamSpec {
-  std::string name;  // e.g. "E1_Pa"
-  double lower = 0.0;
-  double upper = 0.0;
-  bool log_scale = true;
-};
-
-// Parameters of the baseline (E1, c1, c2): every ModelSpec starts with them, an
-// extension's own parameters follow.
-inline constexpr std::size_t kBaselineParams = 3;
-
-// A model to fit: the baseline three-element column plus at most one extension.
+// A model to fit: the baseline three-element column plus at most one cause (cause.hpp).
 struct ModelSpec {
-  Extension extension = Extension::kNone;
-  std::vector<ParamSpec> params;
-  // relaxation_spectrum: the window of times the power law covers [s], from the data (three
-  // shortest sample intervals, or the first sample time if later, to the longest record),
-  // not fitted.
-  double spectrum_t_lo = 0.0, spectrum_t_hi = 0.0;
-  std::string name() const;  // "three_element" or "three_element+<cause>"
+  CausePtr cause;  // null: the baseline alone
+  std::vector<ParamSpec> params;  // the baseline's, then the cause's own
+  // The data the bounds came from; a cause also fixes settings of its own from them (the
+  // relaxation spectrum's time window).
+  DataScales scales;
+  std::string cause_name() const;  // "none" or the cause's name
+  std::string name() const;        // "three_element" or "three_element+<cause>"
 };
 
-// Data-driven scales used for bounds and starting points.
-struct DataScales {
-  double modulus_Pa = 1.0;  // peak stress / peak strain
-  double duration_s = 1.0;
-  double min_gap_s = 1.0;  // shortest sample spacing
-  double peak_force_N = 1.0;
-  double peak_strain = 0.0;  // largest plate_mm / height
-  double first_time_s = 0.0;  // earliest positive sample time of any file
-};
+// The data's scales (cause.hpp) over all files.
 DataScales data_scales(const std::vector<Measurement>& data);
 
-ModelSpec model_spec(Extension e, const DataScales& s);
+// The model of a cause: "none" (or "three_element") for the baseline, else a registered
+// cause's name (throws rheo::Error naming the choices when unknown), or the cause itself.
+ModelSpec model_spec(const std::string& cause, const DataScales& s);
+ModelSpec model_spec(CausePtr cause, const DataScales& s);
+// The specimen parameters the simulation runs for these values of the model's parameters.
 SpecimenParams to_params(const ModelSpec& spec, const std::vector<double>& values);
+// The model's reading on one file: the simulation of to_params, then the cause's
+// observation hook.
+Prediction predict(const Measurement& m, const ModelSpec& spec, const std::vector<double>& values,
+                   const SimulationOptions& sim = {});
 
 // Where a fit is, for a progress display: start `start` of `starts`, solver iteration
 // `iteration` (at most max_iterations per start).
@@ -115,8 +104,8 @@ double force_rmse(const std::vector<Measurement>& data, const ModelSpec& spec,
 FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
                     std::vector<std::vector<double>> starts, const FitOptions& options = {});
 
-// Starts for an extension seeded from a fitted baseline (the baseline's values with a
-// small grid over the extra parameters).
+// Starts for a cause seeded from a fitted baseline (the baseline's values with the cause's
+// grid over its own parameters).
 std::vector<std::vector<double>> extension_starts(const ModelSpec& spec,
                                                   const std::vector<double>& baseline_values,
                                                   const DataScales& s);

@@ -162,49 +162,6 @@ void check_positive(double v, const char* name) {
 
 }  // namespace
 
-const std::vector<Extension>& all_extensions() {
-  static const std::vector<Extension> list{
-      Extension::kSecondRelaxationTime, Extension::kForceDependentDamping,
-      Extension::kStrainHardening, Extension::kSensorLag, Extension::kSensorOffset,
-      Extension::kRelaxationSpectrum};
-  return list;
-}
-
-std::string cause_name(Extension e) {
-  switch (e) {
-    case Extension::kNone:
-      return "none";
-    case Extension::kSecondRelaxationTime:
-      return "second_relaxation_time";
-    case Extension::kForceDependentDamping:
-      return "force_dependent_damping";
-    case Extension::kStrainHardening:
-      return "strain_hardening";
-    case Extension::kSensorLag:
-      return "sensor_lag";
-    case Extension::kSensorOffset:
-      return "sensor_offset";
-    case Extension::kRelaxationSpectrum:
-      return "relaxation_spectrum";
-  }
-  return "none";
-}
-
-Extension extension_from_name(const std::string& name) {
-  if (name == "none" || name == "three_element") return Extension::kNone;
-  for (Extension e : all_extensions()) {
-    if (cause_name(e) == name) return e;
-  }
-  throw Error("unknown model/cause '" + name + "', expected three_element or one of " +
-              extension_names());
-}
-
-std::string extension_names() {
-  std::string out;
-  for (Extension e : all_extensions()) out += (out.empty() ? "" : ", ") + cause_name(e);
-  return out;
-}
-
 Model coarse_model(const Geometry& g, const SpecimenParams& p) {
   const double h = g.height_m();
   const double per_length = g.area_m2() / h;  // k = E A / h, c = eta A / h

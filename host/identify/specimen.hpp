@@ -27,23 +27,6 @@
 
 namespace rheo::identify {
 
-// Candidate causes of misfit (the cause vocabulary of docs/data-format.md).
-enum class Extension {
-  kNone,
-  kSecondRelaxationTime,
-  kForceDependentDamping,
-  kStrainHardening,
-  kSensorLag,
-  kSensorOffset,
-  kRelaxationSpectrum,
-};
-
-const std::vector<Extension>& all_extensions();          // every extension except kNone
-std::string cause_name(Extension e);                     // "second_relaxation_time", ...
-Extension extension_from_name(const std::string& name);  // throws rheo::Error when unknown
-// The cause names of all_extensions(), comma-separated, for help and error texts.
-std::string extension_names();
-
 // Material and sensor parameters of the column in continuum units.
 struct SpecimenParams {
   double E1 = 0.0;  // Voigt spring modulus [Pa]

@@ -70,7 +70,7 @@ TEST(Fit, ConfidenceIntervalsCoverTheTruthUnderNoise) {
 TEST(Fit, ParameterWithNothingToExplainIsFlaggedAtItsBoundWithoutInterval) {
   const std::vector<Measurement> data{short_test(truth(), 0.01, 12)};
   const DataScales s = data_scales(data);
-  const ModelSpec spec = model_spec(Extension::kStrainHardening, s);
+  const ModelSpec spec = model_spec("strain_hardening", s);
   const FitResult base = fit_model(data, model_spec(Extension::kNone, s), {}, kColumnFit);
   const FitResult r = fit_model(data, spec, extension_starts(spec, base.values, s), kColumnFit);
   EXPECT_EQ(r.estimates[3].name, "hardening");
