@@ -168,9 +168,17 @@ Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
     if (model.flags[i] == kPlate) top.push_back(i);
   }
   const double h = model.height;
-  auto surface_of = [&](const State& st) {
+  // The top surface after the last step; read in place where the backend keeps its state
+  // in host memory (the reference, which runs the fits), read back elsewhere.
+  auto surface_now = [&]() {
+    State read_back;
+    const State* st = engine.resident_state();
+    if (!st) {
+      read_back = engine.state();
+      st = &read_back;
+    }
     double z = 0.0;
-    for (int i : top) z += st.x[i].z();
+    for (int i : top) z += st->x[i].z();
     return (h - z / static_cast<double>(top.size())) * 1e3;
   };
 
@@ -207,7 +215,7 @@ Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
     std::vector<double> force;
     if (plate_z.size() > 1) {
       force = engine.run(std::span<const double>(plate_z).first(plate_z.size() - 1));
-      surface = surface_of(engine.state());
+      surface = surface_now();
     }
     const std::vector<double> last = engine.run(std::span<const double>(plate_z).last(1));
     force.push_back(last.front());
@@ -216,7 +224,7 @@ Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
       sensor += (force[k] - sensor) * gain;
     }
     surface_prev = surface;
-    surface = surface_of(engine.state());
+    surface = surface_now();
     // The plate force is exactly 0 N when the plate holds no particle.
     contact = force.back() != 0.0;
     const double t_prev = t_end - dt;

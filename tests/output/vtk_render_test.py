@@ -140,17 +140,16 @@ def check_reference(out):
 
 
 def check_fixed_point(out, stdout):
+    # The fixed-point backends read the edges' Voigt lengths back at every frame, so their
+    # frames carry edge tensions and stresses like the reference's (3-D block: no VTK note).
     frames = read_pvd(os.path.join(out, "mesh.pvd"))
     fields = arrays(read_vtu(frames[-1][1]["object"]))
-    check_nonzero(fields, ["displacement_m", "velocity_m_s", "strain_zz_m_per_m"], "bittrue")
-    for name in ("stress_Pa", "stress_zz_Pa", "von_mises_stress_Pa"):
-        check(name not in fields, f"bittrue frame has {name} (no Voigt lengths read back)")
+    check_nonzero(fields, ["displacement_m", "velocity_m_s", "strain_zz_m_per_m", "stress_Pa",
+                           "stress_zz_Pa", "von_mises_stress_Pa"], "bittrue")
     edges = arrays(read_vtu(frames[-1][1]["object"].replace("frame_", "edges_")))
-    check("edge_tension_N" not in edges, "bittrue edges have edge_tension_N")
-    check("edge_strain_m_per_m" in edges, "bittrue edges lack edge_strain_m_per_m")
+    check_nonzero(edges, ["edge_tension_N", "edge_strain_m_per_m"], "bittrue edges")
     note = [line for line in stdout.splitlines() if "VTK note" in line]
-    check(note and "edge_tension_N" in note[0] and "not read back" in note[0],
-          f"no VTK note on the absent arrays in:\n{stdout}")
+    check(not note, f"a VTK note on absent arrays in:\n{stdout}")
 
 
 def check_render(render, pvd, frame, png):
