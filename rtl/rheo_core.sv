@@ -178,7 +178,7 @@ module rheo_core #(
     .m_axis_tlast(m_axis_tlast),
     .busy_i(busy_o), .state_i(state_q),
     .holds_word_i(state_q == StRSend || state_q == StStatSend || state_q == StForceOut),
-    .bank_i(bank_q), .drain_i(drain_q), .div_step_i(div_step_q));
+    .bank_i(bank_q), .div_rem_i(div_rem_q), .drain_i(drain_q), .div_step_i(div_step_q));
 `endif
 
   // ---------------------------------------------------------------- lane signals

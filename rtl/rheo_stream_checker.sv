@@ -12,8 +12,8 @@
 //   m_axis: a property of the core.
 // Core invariants: the FSM state is one of the enum's values; the core offers an output
 // word exactly in the states that hold one, and never takes an input word while it offers
-// one; it does not take input while busy; the bank, drain and division counters stay in
-// their ranges.
+// one; it does not take input while busy; the bank, drain and division counters and the
+// division's remainder (which becomes the bank) stay in their ranges.
 // Yosys 0.23 takes no action block after an immediate assertion: the message is for
 // simulation only.
 `ifdef FORMAL
@@ -47,6 +47,7 @@ module rheo_stream_checker #(
   input logic [StateW-1:0] state_i,
   input logic              holds_word_i,   // the state is one that sends a word
   input logic [BW-1:0]     bank_i,
+  input logic [BW-1:0]     div_rem_i,      // remainder of the start-index division
   input logic [DrainW-1:0] drain_i,
   input logic [DivStepW-1:0] div_step_i
 );
@@ -108,6 +109,8 @@ module rheo_stream_checker #(
                   "rheo_core: ready for input while it offers an output word")
       `RHEO_CHECK(!(s_axis_tready && busy_i), "rheo_core: ready for input while busy")
       `RHEO_CHECK({1'b0, bank_i} < (BW+1)'(Lanes), "rheo_core: bank counter beyond the lanes")
+      `RHEO_CHECK({1'b0, div_rem_i} < (BW+1)'(Lanes),
+                  "rheo_core: division remainder beyond the lanes")
       `RHEO_CHECK(drain_i <= DrainW'(MaxDrain), "rheo_core: drain counter out of range")
       `RHEO_CHECK(div_step_i <= DivStepW'(DivSteps), "rheo_core: division counter out of range")
     end
