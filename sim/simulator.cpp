@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sim/error.hpp"
+#include "sim/particle_rule.hpp"
 
 namespace rheo {
 
@@ -21,7 +22,6 @@ constexpr double kRk4Radius = 2.5;
 // RK4's stability interval on the negative real axis (first-order relaxations of d, m).
 constexpr double kRk4RealAxis = 2.78;
 
-bool is_fixed(std::uint8_t flag) { return flag == kFixed; }
 
 std::size_t element_count(const Model& m) {
   return m.dim == 2 ? m.triangles.size() : m.tetrahedra.size();
@@ -137,7 +137,7 @@ double max_stable_dt(const Model& model, Integrator integrator) {
     }
   }
   for (int i = 0; i < n; ++i) {
-    if (is_fixed(model.flags[i])) continue;
+    if (is_fixed_particle(model.flags[i])) continue;
     // Block Gershgorin: the largest eigenvalue of M^-1 K is at most 2 K_i / m_i.
     const double a = 2.0 * stiffness[i] / model.mass[i];
     const double b = 2.0 * damping[i] / model.mass[i];
@@ -323,31 +323,11 @@ StepReport Simulator::step(double plate_z) {
 
 void Simulator::apply_contacts(int i, double z_start, double plate_z, double force_z,
                                StepReport* report) {
-  Vec3& x = state_.x[i];
-  Vec3& v = state_.v[i];
-  if (model_.floor && x.z() < 0.0) {
-    x.z() = 0.0;
-    v.z() = std::max(v.z(), 0.0);
+  if (apply_floor_and_plate(model_, i, z_start, plate_z, options_.dt, force_z, state_.x[i],
+                            state_.v[i], held_[i])) {
+    report->plate_force_N += force_z;
+    ++report->contacts;
   }
-  if (model_.flags[i] != kPlate) return;
-  const double plate_velocity = (plate_z - z_start) * (1.0 / options_.dt);
-  if (x.z() > plate_z) {
-    x.z() = plate_z;
-    // The held particle moves with the plate: its velocity must match its position
-    // change, otherwise the edges never see the plate's strain rate (see simulator.hpp).
-    v.z() = std::min(v.z(), plate_velocity);
-  } else if (held_[i] && force_z > 0.0 &&
-             model_.plate_contact == PlateContact::kHoldWhilePushing) {
-    // Still pushing the plate: it stays on it (see PlateContact in model.hpp).
-    x.z() = plate_z;
-    v.z() = plate_velocity;
-  } else {
-    held_[i] = 0;
-    return;
-  }
-  held_[i] = 1;
-  report->plate_force_N += force_z;
-  ++report->contacts;
 }
 
 StepReport Simulator::step_sie(double plate_z) {
@@ -361,17 +341,13 @@ StepReport Simulator::step_sie(double plate_z) {
   for (int i = 0; i < n; ++i) {
     Vec3& x = state_.x[i];
     Vec3& v = state_.v[i];
-    const std::uint8_t flag = model_.flags[i];
-    if (is_fixed(flag)) {
+    if (is_fixed_particle(model_.flags[i])) {
       x = model_.x0[i];
       v.setZero();
       continue;
     }
     const double z_start = x.z();
-    Vec3 accel = force_[i] / model_.mass[i] + g;
-    if (external) accel += external_[i] / model_.mass[i];
-    v += dt * accel;
-    x += dt * v;
+    explicit_update(model_, i, force_[i], g, external ? &external_[i] : nullptr, dt, x, v);
     apply_contacts(i, z_start, plate_z, force_[i].z(), &report);
   }
   const int ne = model_.num_edges();
@@ -401,13 +377,13 @@ StepReport Simulator::step_rk4(double plate_z) {
   stage_sdot_.resize(4);
   // Acceleration of particle i in stage j (zero for fixed particles).
   auto accel = [&](int j, int i) -> Vec3 {
-    if (is_fixed(model_.flags[i])) return Vec3::Zero();
+    if (is_fixed_particle(model_.flags[i])) return Vec3::Zero();
     Vec3 a = stage_f_[j][i] / model_.mass[i] + model_.gravity;
     if (!external_.empty()) a += external_[i] / model_.mass[i];
     return a;
   };
   auto velocity = [&](int j, int i) -> Vec3 {
-    return is_fixed(model_.flags[i]) ? Vec3::Zero() : Vec3(stage_[j].v[i]);
+    return is_fixed_particle(model_.flags[i]) ? Vec3::Zero() : Vec3(stage_[j].v[i]);
   };
   stage_[0] = state_;
   compute_forces(stage_[0], stage_f_[0], stage_ddot_[0], stage_mdot_[0], stage_sdot_[0],
@@ -437,7 +413,7 @@ StepReport Simulator::step_rk4(double plate_z) {
     Vec3& x = state_.x[i];
     Vec3& v = state_.v[i];
     const std::uint8_t flag = model_.flags[i];
-    if (is_fixed(flag)) {
+    if (is_fixed_particle(flag)) {
       x = model_.x0[i];
       v.setZero();
       continue;
@@ -488,7 +464,7 @@ void Simulator::check_finite() const {
 double Simulator::energy() const {
   double e = 0.0;
   for (int i = 0; i < model_.num_particles(); ++i) {
-    if (is_fixed(model_.flags[i])) continue;
+    if (is_fixed_particle(model_.flags[i])) continue;
     e += 0.5 * model_.mass[i] * state_.v[i].squaredNorm();
     e -= model_.mass[i] * model_.gravity.dot(state_.x[i]);
   }

@@ -1,6 +1,7 @@
 // The reference model's semi-implicit Euler step (sim/simulator.cpp step_sie) with every
-// state word in a chosen scalar type, for the float column of `rheo fixed`. It evaluates
-// the same templated edge kernel (sim/edge_kernel.hpp) instantiated for Real, and covers
+// state word in a chosen scalar type, for the float backend. It evaluates the same templated
+// edge kernel (sim/edge_kernel.hpp) and the same particle rule (sim/particle_rule.hpp)
+// instantiated for Real, and covers
 // what the hardware computes: three-element edges (with the optional kernel features),
 // gravity, floor, fixed and plate-driven particles with the unilateral plate rule.
 // Topology and volume forces are not part of the hardware model and are refused here.
@@ -13,6 +14,7 @@
 #include "sim/edge_kernel.hpp"
 #include "sim/error.hpp"
 #include "sim/model.hpp"
+#include "sim/particle_rule.hpp"
 
 namespace rheo::backend {
 
@@ -63,39 +65,20 @@ class SieLoop {
       m_[k] += dt_ * r.mdot;
     }
     Real plate_force = Real(0);
+    const V g{static_cast<Real>(model_.gravity[0]), static_cast<Real>(model_.gravity[1]),
+              static_cast<Real>(model_.gravity[2])};  // as given (model.hpp)
     for (int i = 0; i < n; ++i) {
-      const std::uint8_t flag = model_.flags[i];
-      if (flag == kFixed) {
+      if (is_fixed_particle(model_.flags[i])) {
         for (int c = 0; c < 3; ++c) x_[i][c] = static_cast<Real>(model_.x0[i][c]);
         v_[i] = V{Real(0), Real(0), Real(0)};
         continue;
       }
       const Real z_start = x_[i][2];
-      const Real mass = static_cast<Real>(model_.mass[i]);
-      for (int c = 0; c < 3; ++c) {
-        const Real g = static_cast<Real>(model_.gravity[c]);  // as given (model.hpp)
-        v_[i][c] += dt_ * (f_[i][c] / mass + g);
-        x_[i][c] += dt_ * v_[i][c];
+      explicit_update<Real, V>(model_, i, f_[i], g, nullptr, dt_, x_[i], v_[i]);
+      if (apply_floor_and_plate<Real, V>(model_, i, z_start, plate_z, dt_, f_[i][2], x_[i], v_[i],
+                                         held_[i])) {
+        plate_force += f_[i][2];
       }
-      if (model_.floor && x_[i][2] < Real(0)) {
-        x_[i][2] = Real(0);
-        if (v_[i][2] < Real(0)) v_[i][2] = Real(0);
-      }
-      if (flag != kPlate) continue;
-      const Real plate_velocity = (plate_z - z_start) / dt_;
-      if (x_[i][2] > plate_z) {
-        x_[i][2] = plate_z;
-        if (v_[i][2] > plate_velocity) v_[i][2] = plate_velocity;
-      } else if (held_[i] && f_[i][2] > Real(0) &&
-                 model_.plate_contact == PlateContact::kHoldWhilePushing) {
-        x_[i][2] = plate_z;
-        v_[i][2] = plate_velocity;
-      } else {
-        held_[i] = 0;
-        continue;
-      }
-      held_[i] = 1;
-      plate_force += f_[i][2];
     }
     for (int k = 0; k < model_.num_edges(); ++k) {
       const EdgeMaterial& m = model_.materials[model_.edges[k].material];

@@ -52,6 +52,31 @@ TEST_P(StreamTest, RandomIdleAndBackPressureOnBothSidesKeepResultsBitExact) {
 
 INSTANTIATE_TEST_SUITE_P(Lanes, StreamTest, ::testing::Values(1, 2, 4));
 
+// The long run: thousands of steps of random idle cycles and back-pressure, with the stream
+// checker's assertions on, so that rare orderings of a stall against a state change of the
+// command FSM occur; the state is compared every 25 steps (a read-back between steps also
+// stalls the stream).
+constexpr long kLongStreamSteps = 5000;
+
+class LongStreamTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(LongStreamTest, ThousandsOfStepsOfRandomStallsStayBitExact) {
+  CosimOptions opt;
+  opt.steps = kLongStreamSteps;
+  opt.lanes = GetParam();
+  opt.compare_every = 25;
+  opt.input_idle_prob = 0.3;
+  opt.output_stall_prob = 0.6;
+  opt.seed = 777 + GetParam();
+  opt.run_reference = false;
+  const CosimResult r = run_cosim(small_block(), opt);
+  ASSERT_EQ(r.mismatches, 0) << r.first.front().describe();
+  EXPECT_EQ(r.steps, kLongStreamSteps);
+  EXPECT_DOUBLE_EQ(r.cycles_per_step_measured, double(r.cycles_per_step_formula));
+}
+
+INSTANTIATE_TEST_SUITE_P(Lanes, LongStreamTest, ::testing::Values(1, 2, 4));
+
 std::unique_ptr<Device> rtl_device(int lanes, VerilatorTransport** raw = nullptr) {
   VerilatorOptions vo;
   vo.lanes = lanes;
