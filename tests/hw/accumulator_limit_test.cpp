@@ -1,0 +1,227 @@
+// The core's wide sums at their limits, on the bit-true model and the RTL alike.
+//
+// Force sums: each particle has two ForceAccW-bit accumulators (forces as start and as end
+// of an edge) that do not saturate; they rely on the host's limit of 255 edges per particle
+// (make_core_image). 255 edge forces of at most 2^(W-1) each sum to at most 255 * 2^31 <
+// 2^39, inside the 40-bit accumulator, so a sum cannot wrap. The test puts a particle at
+// that limit with every edge force saturated in the same direction: the exact sum lies above
+// 2^38, so an accumulator one bit narrower would wrap to the wrong sign and the particle
+// would move away from its edges. The sum must saturate to the right sign once, when it is
+// narrowed for the MPM (the MPM flag), the particle must move toward its edges, and the RTL
+// must equal the bit-true model bit for bit. One more edge is refused by the host.
+//
+// Plate force: the plate-force accumulator keeps 16 guard bits and saturates once when the
+// word is sent (StatusPlateSat). Many plate particles each pushing well inside the word
+// range add up beyond it: the flag is raised (and only that flag), in both models alike.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "hls/fixed_format.hpp"
+#include "hls/frame_format.hpp"
+#include "host/driver/bittrue_transport.hpp"
+#include "host/driver/core_image.hpp"
+#include "host/driver/device.hpp"
+#include "host/driver/verilator_transport.hpp"
+#include "sim/error.hpp"
+#include "sim/model.hpp"
+
+namespace rheo::driver {
+namespace {
+
+constexpr int kDegreeLimit = (1 << hls::kForceAccGuardBits) - 1;  // 255
+
+EdgeMaterial soft_material() {
+  EdgeMaterial m;
+  m.k1 = 100.0;
+  m.c1 = 1.0;
+  m.c2 = 10.0;
+  return m;
+}
+
+// A hub particle joined to `leaves` particles 1 m away along +x. hub_is_start: the hub is
+// every edge's start (its force-as-start accumulator collects the sums), else their end.
+Model star(int leaves, bool hub_is_start) {
+  Model m;
+  m.floor = false;
+  m.gravity = Vec3::Zero();
+  m.materials = {soft_material()};
+  m.x0.push_back(Vec3(0.0, 0.0, 0.5));
+  for (int i = 0; i < leaves; ++i) m.x0.push_back(Vec3(1.0, 0.001 * i, 0.5));
+  m.mass.assign(m.x0.size(), 0.01);
+  m.flags.assign(m.x0.size(), kFree);
+  for (int i = 1; i <= leaves; ++i) {
+    Edge e;
+    e.s = hub_is_start ? 0 : i;
+    e.e = hub_is_start ? i : 0;
+    e.l0 = (m.x0[i] - m.x0[0]).norm();
+    e.L = e.l0;
+    m.edges.push_back(e);
+  }
+  m.size = 1.0;
+  m.height = 0.5;
+  return m;
+}
+
+struct StepResult {
+  std::uint32_t flags = 0;
+  std::int32_t plate_word = 0;
+  std::vector<std::int32_t> state;  // x[3], p[3] per particle
+};
+
+// Loads the image, runs one step with the plate at plate_word and reads back the flags and
+// every particle's state. Device::run turns any flag into an error; the flags are what this
+// test is about, so the run command goes to the transport and the flags come from the status.
+StepResult one_step(Device& dev, const CoreImage& img, std::int32_t plate_word) {
+  dev.load(img);
+  StepResult r;
+  dev.transport().send({frame::header(frame::kOpRun, frame::kRegionGlobals, 1),
+                        static_cast<std::uint32_t>(plate_word)});
+  r.plate_word = static_cast<std::int32_t>(dev.transport().receive(1).front());
+  r.flags = dev.read_status(false).flags;
+  r.state = dev.read_particle_state(0, img.num_particles);
+  return r;
+}
+
+std::unique_ptr<Device> make_device(const std::string& kind, int lanes) {
+  if (kind == "bittrue") return std::make_unique<Device>(std::make_unique<BitTrueTransport>(lanes));
+  VerilatorOptions vo;
+  vo.lanes = lanes;
+  return std::make_unique<Device>(std::make_unique<VerilatorTransport>(vo));
+}
+
+// Every edge's force saturated: the stiffness coefficient raised far beyond the word range
+// and each Voigt element stretched by a tenth of its length.
+CoreImage saturated_star_image(bool hub_is_start, int lanes) {
+  const Model m = star(kDegreeLimit, hub_is_start);
+  State s = initial_state(m);
+  for (std::size_t k = 0; k < s.d.size(); ++k) s.d[k] = 1.1 * m.edges[k].L;  // stretched
+  CoreImage img = make_core_image(m, s, 1e-4, lanes);
+  img.materials[0].kt.shift = std::max(-16, img.materials[0].kt.shift - 24);
+  return img;
+}
+
+struct LimitCase {
+  bool hub_is_start;
+  int lanes;
+};
+
+class ForceAccumulatorLimitTest : public ::testing::TestWithParam<LimitCase> {};
+
+TEST_P(ForceAccumulatorLimitTest, TwoHundredFiftyFiveSaturatedForcesSumWithoutWrapping) {
+  const LimitCase c = GetParam();
+  const CoreImage img = saturated_star_image(c.hub_is_start, c.lanes);
+  const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
+  auto bittrue = make_device("bittrue", c.lanes);
+  const StepResult golden = one_step(*bittrue, img, plate);
+  // Every edge force saturated (TEM flag) and the hub's sum beyond the word (MPM flag).
+  ASSERT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+  ASSERT_TRUE(golden.flags & hls::kStatusMpmSaturated) << describe_status_flags(golden.flags);
+  // The stretched edges pull the hub toward the leaves (+x): p.x > 0. A wrapped sum would
+  // have the other sign.
+  const std::int32_t hub_px = golden.state[3];
+  EXPECT_GT(hub_px, 0);
+  // The leaves are pulled back toward the hub.
+  EXPECT_LT(golden.state[6 + 3], 0);
+
+  auto rtl = make_device("rtl", c.lanes);
+  const StepResult got = one_step(*rtl, img, plate);
+  EXPECT_EQ(got.flags, golden.flags) << describe_status_flags(got.flags);
+  EXPECT_EQ(got.plate_word, golden.plate_word);
+  ASSERT_EQ(got.state.size(), golden.state.size());
+  for (std::size_t w = 0; w < got.state.size(); ++w) {
+    ASSERT_EQ(got.state[w], golden.state[w]) << "particle " << w / 6 << " word " << w % 6;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(HubSideAndLanes, ForceAccumulatorLimitTest,
+                         ::testing::Values(LimitCase{true, 1}, LimitCase{false, 1},
+                                           LimitCase{true, 2}, LimitCase{false, 2}),
+                         [](const auto& info) {
+                           return std::string(info.param.hub_is_start ? "start" : "end") +
+                                  "_lanes" + std::to_string(info.param.lanes);
+                         });
+
+TEST(ForceAccumulatorLimit, OneEdgeMoreThanTheAccumulatorAllowsIsRefusedByTheHost) {
+  const Model m = star(kDegreeLimit + 1, true);
+  try {
+    make_core_image(m, initial_state(m), 1e-4, 1);
+    FAIL() << "degree " << kDegreeLimit + 1 << " accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("particle 0 has 256 edges"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("at most 255"), std::string::npos) << e.what();
+  }
+}
+
+// `pairs` plate particles at z = 0.5 m, each hanging from a fixed anchor 0.25 m above by a
+// stretched edge: each is pulled up through the plate (at 0.5 m), held by it, and adds
+// its upward force to the plate force.
+Model hanging_plate_particles(int pairs) {
+  Model m;
+  m.floor = false;
+  m.gravity = Vec3::Zero();
+  m.materials = {soft_material()};
+  for (int i = 0; i < pairs; ++i) {
+    m.x0.push_back(Vec3(0.01 * i, 0.0, 0.75));  // anchor
+    m.x0.push_back(Vec3(0.01 * i, 0.0, 0.5));   // plate particle
+    m.flags.push_back(kFixed);
+    m.flags.push_back(kPlate);
+    Edge e;
+    e.s = 2 * i;
+    e.e = 2 * i + 1;
+    e.l0 = e.L = 0.25;
+    m.edges.push_back(e);
+  }
+  m.mass.assign(m.x0.size(), 0.01);
+  m.size = 1.0;
+  m.height = 0.5;
+  return m;
+}
+
+class PlateSaturationTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(PlateSaturationTest, ManyPlateParticlesInsideTheWordRangeSaturateThePlateSum) {
+  const int lanes = GetParam();
+  constexpr int kPairs = 64;
+  const Model m = hanging_plate_particles(kPairs);
+  State s = initial_state(m);
+  for (std::size_t k = 0; k < s.d.size(); ++k) s.d[k] = 1.2 * m.edges[k].L;
+  CoreImage img = make_core_image(m, s, 1e-4, lanes);
+  const std::int32_t plate = std::int32_t(to_x_word(0.5, img, "plate"));
+
+  // Scale the stiffness coefficient until each particle's force is a sizeable fraction of
+  // the word but 64 of them exceed it: 2^31 / 64 < f.z < 2^31.
+  auto bittrue = make_device("bittrue", lanes);
+  StepResult golden;
+  bool reached = false;
+  for (int raise = 0; raise < 40 && !reached; ++raise) {
+    golden = one_step(*bittrue, img, plate);
+    if (golden.flags & hls::kStatusPlateSaturated) {
+      reached = true;
+      break;
+    }
+    ASSERT_EQ(golden.flags, 0u) << describe_status_flags(golden.flags);
+    --img.materials[0].kt.shift;
+  }
+  ASSERT_TRUE(reached) << "the plate sum never saturated";
+  // Only the plate flag: every particle's own force stayed inside the word.
+  EXPECT_EQ(golden.flags, std::uint32_t(hls::kStatusPlateSaturated))
+      << describe_status_flags(golden.flags);
+  // Saturated to the largest positive word (the particles push the plate up).
+  EXPECT_EQ(golden.plate_word, std::numeric_limits<std::int32_t>::max());
+
+  auto rtl = make_device("rtl", lanes);
+  const StepResult got = one_step(*rtl, img, plate);
+  EXPECT_EQ(got.flags, golden.flags) << describe_status_flags(got.flags);
+  EXPECT_EQ(got.plate_word, golden.plate_word);
+  ASSERT_EQ(got.state, golden.state);
+}
+
+INSTANTIATE_TEST_SUITE_P(Lanes, PlateSaturationTest, ::testing::Values(1, 2, 4));
+
+}  // namespace
+}  // namespace rheo::driver
