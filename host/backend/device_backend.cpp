@@ -27,14 +27,15 @@ class DeviceBackend : public Backend {
 
   void load(const Model& model, const State& state, const SimOptions& options) override {
     const double dt = options.dt;
-    const bool arm = std::any_of(model.materials.begin(), model.materials.end(),
-                                 [](const EdgeMaterial& m) { return m.has_maxwell_arm(); });
-    const Model hw = driver::hardware_model(model, &dropped_, arm);
+    // The core variant whose edge element computes the model's edges.
+    const hls::EdgeElement& element = driver::edge_element_for(model);
+    const bool arm = element.has_maxwell_arm();
+    const Model hw = driver::hardware_model(model, &dropped_, element);
     check_hardware_step(hw, options, dropped_);
-    if (!device_ || arm != arm_) {
+    if (!device_ || element != element_) {
       link::DeviceOptions o;
       o.lanes = options_.lanes;
-      o.maxwell_arm = arm;
+      o.element = element;
       o.trace_fst = options_.trace_fst;
       o.timeout = options_.timeout;
       o.input_idle_prob = options_.input_idle_prob;
@@ -44,9 +45,9 @@ class DeviceBackend : public Backend {
       device_ = std::move(opened.device);
       lanes_ = opened.lanes;
       name_ = opened.name;
-      arm_ = arm;
+      element_ = element;
     }
-    image_ = driver::make_core_image(hw, state, dt, lanes_, driver::FormatDesc{}, arm);
+    image_ = driver::make_core_image(hw, state, dt, lanes_, driver::FormatDesc{}, element);
     try {
       device_->load(image_);
     } catch (const Error& e) {
@@ -54,7 +55,7 @@ class DeviceBackend : public Backend {
       if (!arm || !device_spec_.starts_with("remote:")) throw;
       throw Error(std::string(e.what()) +
                   "; the model has a Maxwell arm: the server's core needs it too (rheo "
-                  "cosim-server --maxwell-arm)");
+                  "cosim-server --element " + std::string(element.name) + ")");
     }
     t_ = state.t;
     dt_ = dt;
@@ -92,13 +93,13 @@ class DeviceBackend : public Backend {
     const int slots = static_cast<int>(img.edges.size());
     const std::vector<std::int32_t> d = device_->read_voigt_lengths(0, slots);
     const std::vector<std::int32_t> m =
-        arm_ ? device_->read_arm_extensions(0, slots) : std::vector<std::int32_t>{};
+        element_.has_maxwell_arm() ? device_->read_arm_extensions(0, slots) : std::vector<std::int32_t>{};
     s.d.resize(img.num_edges);
     s.m.assign(img.num_edges, 0.0);
     for (int k = 0; k < img.num_edges; ++k) {
       const int slot = img.edge_slot[k];
       s.d[k] = driver::from_x_word(d[slot], img);
-      if (arm_) s.m[k] = driver::from_x_word(m[slot], img);
+      if (element_.has_maxwell_arm()) s.m[k] = driver::from_x_word(m[slot], img);
     }
     return s;
   }
@@ -133,7 +134,7 @@ class DeviceBackend : public Backend {
   std::vector<std::string> dropped_;
   std::string name_;
   int lanes_ = 1;
-  bool arm_ = false;
+  hls::EdgeElement element_ = hls::kThreeElement;
   double t_ = 0.0, dt_ = 0.0;
 };
 

@@ -18,7 +18,7 @@ class FloatBackend : public Backend {
 
   void load(const Model& model, const State& state, const SimOptions& options) override {
     const double dt = options.dt;
-    model_ = std::make_unique<Model>(driver::hardware_model(model, &dropped_, true));
+    model_ = std::make_unique<Model>(driver::hardware_model(model, &dropped_, driver::edge_element_for(model)));
     check_hardware_step(*model_, options, dropped_);
     loop_ = std::make_unique<SieLoop<float>>(*model_, dt);
     loop_->set_state(state);

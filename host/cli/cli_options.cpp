@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <set>
 
+#include "hls/edge_element.hpp"
 #include "hls/fixed_format.hpp"
 #include "sim/error.hpp"
 
@@ -28,6 +29,21 @@ void add_lanes_option(CLI::App* cmd, int& lanes, const std::string& what) {
   cmd->add_option("--lanes", lanes, "TEM/MPM lanes of " + what)
       ->check(CLI::IsMember(counts))
       ->capture_default_str();
+}
+
+void add_element_option(CLI::App* cmd, std::string& name, bool allow_auto) {
+  std::vector<std::string> names;
+  std::string help = "edge element of the core: ";
+  if (allow_auto) {
+    names.push_back("auto");
+    help += "auto (the one the model needs), ";
+  }
+  for (const hls::EdgeElement& e : hls::kEdgeElements) {
+    names.emplace_back(e.name);
+    help += std::string(e.name) + " (" + std::string(e.description) + "), ";
+  }
+  help.resize(help.size() - 2);
+  cmd->add_option("--element", name, help)->check(CLI::IsMember(names))->capture_default_str();
 }
 
 CLI::Validator whole_number_in(long long lo, long long hi, const std::string& what) {

@@ -23,6 +23,10 @@ void add_output_options(CLI::App* cmd, OutputOptions& options);
 // --lanes L: TEM/MPM lanes of the core, one of hls::kLaneCounts, default hls::kDefaultLanes.
 void add_lanes_option(CLI::App* cmd, int& lanes, const std::string& what);
 
+// --element NAME: the edge element of the core (hls::kEdgeElements; with allow_auto also
+// "auto", the element the model needs). `name` keeps its default.
+void add_element_option(CLI::App* cmd, std::string& name, bool allow_auto);
+
 // --steps N: at most kMaxSteps, which takes over an hour even on the smallest built-in model
 // (~250,000 steps/s); the limit keeps a typo (or an overflowed --duration) from running for
 // days.

@@ -47,7 +47,7 @@ struct CosimArgs {
   OutputOptions output;
   int compare_every = 1;
   bool quiet = false;
-  bool maxwell_arm = false;
+  std::string element = "auto";
   std::string dut = "rtl";
   double idle_prob = 0.0;
   double stall_prob = 0.0;
@@ -70,7 +70,7 @@ void run(const CosimArgs& args) {
   opt.seed = args.seed;
   opt.trace_steps = args.trace_steps;
   opt.compare_every = args.compare_every;
-  opt.maxwell_arm = args.maxwell_arm;
+  opt.element = args.element;
   output::StagedDirectory out(args.output.out, args.output.force);
   // A waveform named inside --out is written into the staged directory with the rest.
   opt.trace_fst = args.trace.empty() ? "" : out.map(args.trace);
@@ -111,6 +111,7 @@ void run(const CosimArgs& args) {
   j["force_unit_N"] = r.force_unit_N;
   j["dt_s"] = r.dt_s;
   j["compare_every_steps"] = opt.compare_every;
+  j["edge_element"] = r.element;
   j["reference_features_dropped"] = r.dropped_features;
   if (!args.trace.empty()) {
     j["trace"] = args.trace;
@@ -190,9 +191,9 @@ void register_cosim(CLI::App& app) {
                   "(m_axis_tready low), default 0")
       ->check(CLI::Range(0.0, 0.95));
   cmd->add_option("--seed", args->seed, "rtl: seed of the idle and stall patterns (default 1)");
-  cmd->add_flag("--maxwell-arm", args->maxwell_arm,
-                "run the core variant with the parallel Maxwell arm (MaxwellArm = 1, 1 lane): "
-                "the scenario's k2/c3 arm is computed instead of dropped");
+  // auto picks the element whose core computes the scenario's edges (the Maxwell arm: the
+  // three-element+arm core, 1 lane); a simpler element drops what it lacks (listed).
+  add_element_option(cmd, args->element, true);
   cmd->callback([args]() { run(*args); });
 }
 

@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "hls/edge_element.hpp"
 #include "hls/fixed_format.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
@@ -37,26 +38,32 @@ struct CosimServerArgs {
   std::string socket;
   int lanes = hls::kDefaultLanes;
   std::string core = "rtl";
-  bool maxwell_arm = false;
+  std::string element = std::string(hls::kThreeElement.name);
   int timeout_ms = 10000;
   double idle_timeout_s = 60;
   bool quiet = false;
 };
+
+hls::EdgeElement element_named(const std::string& name) {
+  const hls::EdgeElement* e = hls::find_edge_element(name);
+  if (!e) throw Error("--element " + name + ": unknown edge element");
+  return *e;
+}
 
 link::CoreFactory core_factory(const CosimServerArgs& args) {
   if (args.core == "null") {
     return [lanes = args.lanes] { return std::make_unique<link::NullCore>(lanes); };
   }
   if (args.core == "bittrue") {
-    return [lanes = args.lanes, arm = args.maxwell_arm] {
-      return std::make_unique<driver::BitTrueTransport>(lanes, arm);
+    return [lanes = args.lanes, element = element_named(args.element)] {
+      return std::make_unique<driver::BitTrueTransport>(lanes, element);
     };
   }
 #ifdef RHEO_HAVE_RTL
-  return [lanes = args.lanes, arm = args.maxwell_arm] {
+  return [lanes = args.lanes, element = element_named(args.element)] {
     driver::VerilatorOptions options;
     options.lanes = lanes;
-    options.maxwell_arm = arm;
+    options.element = element;
     return std::make_unique<driver::VerilatorTransport>(options);
   };
 #else
@@ -111,9 +118,9 @@ void register_cosim_server(CLI::App& app) {
                   "model, for link tests without Verilator) or null (answers with zeros "
                   "without computing: measures the link alone)")
       ->check(CLI::IsMember({"rtl", "bittrue", "null"}));
-  cmd->add_flag("--maxwell-arm", args->maxwell_arm,
-                "The core variant with the parallel Maxwell arm (four-element edges, e.g. a "
-                "fitted second_relaxation_time model; rtl: 1 lane only)");
+  // three-element+arm: four-element edges, e.g. a fitted second_relaxation_time model
+  // (rtl: 1 lane only).
+  add_element_option(cmd, args->element, false);
   cmd->add_option("--timeout-ms", args->timeout_ms,
                   "Longest wait for a hello or for the rest of a begun frame")
       ->check(CLI::PositiveNumber);

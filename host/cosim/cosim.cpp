@@ -39,15 +39,20 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   if (opt.steps < 1) throw Error("cosim: steps must be at least 1");
   if (opt.compare_every < 1) throw Error("cosim: compare_every must be at least 1");
   CosimResult res;
-  // The model every side runs: without what the core does not compute (listed), with the
-  // Maxwell arm when asked for.
-  const Model model =
-      driver::hardware_model(scenario.build_model(), &res.dropped_features, opt.maxwell_arm);
+  // The model every side runs: without what the core's edge element does not compute
+  // (listed). The backends choose their core variant from it.
+  const Model full = scenario.build_model();
+  const hls::EdgeElement* element = opt.element == "auto"
+                                        ? &driver::edge_element_for(full)
+                                        : hls::find_edge_element(opt.element);
+  if (!element) throw Error("cosim: unknown edge element '" + opt.element + "'");
+  res.element = std::string(element->name);
+  const Model model = driver::hardware_model(full, &res.dropped_features, *element);
   const double dt = scenario.options.dt;
   const State start = initial_state(model);
   // The image the cores hold, for the figures (units, schedule rows, cycle formula).
   const CoreImage image =
-      driver::make_core_image(model, start, dt, opt.lanes, driver::FormatDesc{}, opt.maxwell_arm);
+      driver::make_core_image(model, start, dt, opt.lanes, driver::FormatDesc{}, *element);
 
   backend::Options bo;
   bo.lanes = opt.lanes;
@@ -165,7 +170,8 @@ std::string write_trace_gtkw(const CosimResult& r, const CosimOptions& opt,
                 " lies outside the times of " + opt.trace_fst);
   driver::GtkwOptions g;
   g.lanes = r.lanes;
-  g.maxwell_arm = opt.maxwell_arm;
+  g.maxwell_arm = hls::find_edge_element(r.element) &&
+                  hls::find_edge_element(r.element)->has_maxwell_arm();
   // The RTL implements the hardware format (rtl/rheo_consts_pkg.sv is generated from it).
   g.format = driver::FormatDesc::of<hls::HardwareFormat>();
   g.units = driver::Units{r.length_unit_m, r.force_unit_N, r.dt_s};

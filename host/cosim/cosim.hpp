@@ -28,7 +28,9 @@ struct CosimOptions {
   double output_stall_prob = 0.0;   // random back-pressure on m_axis (rtl)
   std::uint64_t seed = 1;
   bool run_reference = true;
-  bool maxwell_arm = false;  // compute the model's Maxwell arm (the core variant with it, 1 lane)
+  // Edge element of the cores: "auto" (the one the model needs: driver::edge_element_for)
+  // or a name of hls::kEdgeElements; what the element does not compute is dropped (listed).
+  std::string element = "auto";
   std::function<void(long step)> progress;  // called after each batch (may be empty)
 };
 
@@ -57,6 +59,7 @@ struct CosimResult {
   int particles = 0, edges = 0, edge_rows = 0, lanes = 0;
   double length_unit_m = 0.0, force_unit_N = 0.0, dt_s = 0.0;
   std::string dut_name, golden_name;  // what ran (Backend::name)
+  std::string element;  // the cores' edge element (hls::EdgeElement::name)
   std::vector<std::string> dropped_features;
   std::vector<double> force_fixed_N, force_ref_N;  // per step
   // With a waveform: the FST times of each traced batch of steps (compare_every steps),

@@ -23,8 +23,8 @@ std::int64_t sword(std::uint32_t w) { return static_cast<std::int32_t>(w); }
 
 }  // namespace
 
-BitTrueTransport::BitTrueTransport(int lanes, bool maxwell_arm)
-    : lanes_(lanes), maxwell_arm_(maxwell_arm), mem_(std::make_unique<hls::CoreMemory>()) {
+BitTrueTransport::BitTrueTransport(int lanes, const hls::EdgeElement& element)
+    : lanes_(lanes), element_(element), mem_(std::make_unique<hls::CoreMemory>()) {
   mem_->lanes = lanes;
 }
 
@@ -164,7 +164,7 @@ void BitTrueTransport::process() {
     const std::uint32_t region = frame::header_region(h);
     const std::uint32_t count = frame::header_count(h);
     if (op == frame::kOpWrite || op == frame::kOpRead) {
-      if (region >= (maxwell_arm_ ? frame::kNumRegions : frame::kNumBaseRegions)) {
+      if (region >= element_.regions()) {
         m.status |= hls::kStatusBadCommand;
         in_.pop_front();
         continue;
@@ -195,8 +195,7 @@ void BitTrueTransport::process() {
       in_.pop_front();
       hls::start_step(m.globals, sword(in_.front()));
       in_.pop_front();
-      const std::int64_t plate_force =
-          maxwell_arm_ ? hls::core_step<Fmt, true>(m) : hls::core_step<Fmt>(m);
+      const std::int64_t plate_force = hls::core_step_for<Fmt>(element_, m);
       out_.push_back(static_cast<std::uint32_t>(plate_force));
       cycles_ += static_cast<std::uint32_t>(
           cycles_per_step_formula(int(m.edge_rows), int(m.num_particles), lanes_));

@@ -7,6 +7,7 @@
 #include <deque>
 #include <memory>
 
+#include "hls/edge_element.hpp"
 #include "hls/rheo_kernel.hpp"
 #include "host/driver/transport.hpp"
 
@@ -14,8 +15,8 @@ namespace rheo::driver {
 
 class BitTrueTransport : public Transport {
  public:
-  // maxwell_arm: model the core variant with the parallel Maxwell arm (RTL MaxwellArm = 1).
-  explicit BitTrueTransport(int lanes, bool maxwell_arm = false);
+  // element: the edge element of the modelled core (hls/edge_element.hpp).
+  explicit BitTrueTransport(int lanes, const hls::EdgeElement& element = hls::kThreeElement);
   void send(const std::vector<std::uint32_t>& words) override;
   std::vector<std::uint32_t> receive(std::size_t n) override;
   std::string name() const override { return "bit-true model"; }
@@ -29,7 +30,7 @@ class BitTrueTransport : public Transport {
   std::uint32_t read_word(std::uint32_t region, std::uint32_t index, std::uint32_t field) const;
 
   int lanes_;
-  bool maxwell_arm_;
+  hls::EdgeElement element_;
   std::unique_ptr<hls::CoreMemory> mem_;
   std::deque<std::uint32_t> in_;
   std::deque<std::uint32_t> out_;

@@ -139,7 +139,16 @@ hls::Coef encode_coef(double value, const std::string& what, int extra_shift) {
 
 double decode_coef(const hls::Coef& c) { return std::ldexp(double(c.mant), -c.shift); }
 
-Model hardware_model(const Model& model, std::vector<std::string>* dropped, bool keep_maxwell_arm) {
+const hls::EdgeElement& edge_element_for(const Model& model) {
+  for (const EdgeMaterial& m : model.materials) {
+    if (m.has_maxwell_arm()) return hls::kThreeElementWithArm;
+  }
+  return hls::kThreeElement;
+}
+
+Model hardware_model(const Model& model, std::vector<std::string>* dropped,
+                     const hls::EdgeElement& element) {
+  const bool keep_maxwell_arm = element.has_maxwell_arm();
   Model hw = model;
   std::vector<std::string> notes;
   for (std::size_t i = 0; i < hw.materials.size(); ++i) {
@@ -182,7 +191,7 @@ double from_f_word(std::int64_t word, const CoreImage& image) {
 }
 
 CoreImage make_core_image(const Model& model_in, const State& state, double dt, int lanes,
-                          const FormatDesc& format, bool maxwell_arm) {
+                          const FormatDesc& format, const hls::EdgeElement& element) {
   if (lanes < 1 || lanes > hls::kMaxLanes) {
     throw Error("lanes = " + std::to_string(lanes) + ": expected 1.." +
                 std::to_string(hls::kMaxLanes));
@@ -191,8 +200,9 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
   CoreImage img;
   img.format = format;
   img.lanes = lanes;
-  img.maxwell_arm = maxwell_arm;
-  const Model model = hardware_model(model_in, &img.dropped_features, maxwell_arm);
+  img.element = element;
+  const bool maxwell_arm = element.has_maxwell_arm();
+  const Model model = hardware_model(model_in, &img.dropped_features, element);
   const int np = model.num_particles();
   const int ne = model.num_edges();
   if (np < 1 || np > hls::kMaxParticles) {
@@ -429,7 +439,7 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
     w.push_back(m.flags);
   }
   write_command(out, frame::kRegionMaterial, 0, w);
-  if (img.maxwell_arm) {
+  if (img.element.has_maxwell_arm()) {
     w.clear();
     for (const auto& m : img.materials) {
       w.push_back(pack_coef(m.gamma));

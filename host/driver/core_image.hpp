@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hls/edge_element.hpp"
 #include "hls/rheo_kernel.hpp"
 #include "sim/model.hpp"
 
@@ -44,9 +45,9 @@ struct CoreImage {
   std::vector<int> edge_slot;               // per model edge: its slot in `edges`
   std::vector<hls::MaterialCoefs> materials;
   hls::MpmGlobals globals;
-  // The image is for a core with the parallel Maxwell arm (RTL MaxwellArm = 1): the
+  // The edge element of the core the image is for. With the parallel Maxwell arm the
   // materials' gamma and k2t and the edges' m are part of it (frames of the arm regions).
-  bool maxwell_arm = false;
+  hls::EdgeElement element = hls::kThreeElement;
   // Model features the linear hardware edge does not implement (ignored in the image).
   std::vector<std::string> dropped_features;
 };
@@ -72,17 +73,23 @@ EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int la
 // out of range (positions beyond the X range, coefficients beyond the 18-bit mantissa,
 // too many particles/edges/materials for the core's memories, degree >= 256).
 // The image's edges are the slots of schedule_edges (bubbles are invalid slots).
-// maxwell_arm: the target core has the parallel Maxwell arm; the model's arm (k2, c3) is
-// then kept (gamma = k2 dt / c3, k2t = k2 Lu / Fu) instead of dropped.
+// element: the edge element of the target core; the parts of the model's edges it computes
+// are kept (with the Maxwell arm: gamma = k2 dt / c3, k2t = k2 Lu / Fu), the rest dropped
+// (listed in dropped_features).
 CoreImage make_core_image(const Model& model, const State& state, double dt, int lanes,
-                          const FormatDesc& format = FormatDesc{}, bool maxwell_arm = false);
+                          const FormatDesc& format = FormatDesc{},
+                          const hls::EdgeElement& element = hls::kThreeElement);
 
 // The model the hardware computes: `model` without the features the linear three-element
 // hardware edge leaves out (nonlinear damper, hardening, Maxwell arm, topology and volume
-// forces). The double reference runs on this for fixed-vs-double comparisons.
-// keep_maxwell_arm: the target core has the arm, so it is not dropped.
+// forces) that `element` does not compute. The double reference runs on this for
+// fixed-vs-double comparisons.
 Model hardware_model(const Model& model, std::vector<std::string>* dropped = nullptr,
-                     bool keep_maxwell_arm = false);
+                     const hls::EdgeElement& element = hls::kThreeElement);
+
+// The simplest edge element that computes every edge part of `model` the hardware has (the
+// Maxwell arm when a material has one); features no element has are dropped regardless.
+const hls::EdgeElement& edge_element_for(const Model& model);
 
 // Conversions between SI values and words of a format.
 std::int64_t to_x_word(double meters, const CoreImage& image, const std::string& what);

@@ -62,7 +62,7 @@ struct TracedSteps {
 struct GtkwOptions {
   std::string core_scope = "rheo_core.rheo_core";  // the rheo_core instance in the FST
   int lanes = 1;
-  bool maxwell_arm = false;        // also show the arm's m words
+  bool maxwell_arm = false;        // the core's edge element has the arm: show its m words
   FormatDesc format;               // binary points of the state words (the RTL's: HardwareFormat)
   Units units;                     // the model's unit choice (CoreImage::units)
   std::string filter_command;      // absolute path of rheo-gtkw-filter (no white space)

@@ -184,13 +184,13 @@ class Harness : public VerilatorTransport::Impl {
 
 VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
   if (o.power_up_seed != 0) {
-    if (o.lanes != 1 || o.maxwell_arm)
+    if (o.lanes != 1 || o.element != hls::kThreeElement)
       throw Error("RTL core with random power-up state: built for 1 lane without the arm");
     impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
-  } else if (o.maxwell_arm) {
+  } else if (o.element == hls::kThreeElementWithArm) {
     if (o.lanes != 1)
-      throw Error("RTL core with the Maxwell arm: lanes = " + std::to_string(o.lanes) +
-                  ": built for 1");
+      throw Error("RTL core with edge element " + std::string(o.element.name) +
+                  ": lanes = " + std::to_string(o.lanes) + ": built for 1 lane only");
     impl_ = std::make_unique<Harness<Vrheo_core_arm_l1>>(o);
   } else if (o.lanes == 1)
     impl_ = std::make_unique<Harness<Vrheo_core_l1>>(o);

@@ -10,13 +10,14 @@
 #include <memory>
 #include <string>
 
+#include "hls/edge_element.hpp"
 #include "host/driver/transport.hpp"
 
 namespace rheo::driver {
 
 struct VerilatorOptions {
   int lanes = 1;                   // 1, 2 or 4 (the verilated variants)
-  bool maxwell_arm = false;        // the MaxwellArm = 1 variant (1 lane)
+  hls::EdgeElement element = hls::kThreeElement;  // with the arm: built for 1 lane only
   std::string trace_fst;           // empty: no waveform
   double input_idle_prob = 0.0;    // probability of holding s_axis_tvalid low in a cycle
   double output_stall_prob = 0.0;  // probability of holding m_axis_tready low in a cycle

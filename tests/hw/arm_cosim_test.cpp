@@ -49,7 +49,6 @@ TEST(ArmCosim, Block5WithMaxwellArmIsBitExactAndTracksTheDoubleReference) {
   CosimOptions opt;
   opt.steps = kArmRunSteps;
   opt.lanes = 1;
-  opt.maxwell_arm = true;
   opt.compare_every = kCompareStateEvery;
   const CosimResult r = run_cosim(block5_with_arm(), opt);
   ASSERT_EQ(r.mismatches, 0) << r.first.front().describe();
@@ -90,7 +89,6 @@ TEST(ArmCosim, ArmVariantRefusesTwoLanes) {
   CosimOptions opt;
   opt.steps = 1;
   opt.lanes = 2;
-  opt.maxwell_arm = true;
   EXPECT_THROW(run_cosim(block5_with_arm(), opt), Error);
 }
 

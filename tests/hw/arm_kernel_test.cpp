@@ -137,7 +137,8 @@ TEST(ArmCoreImage, ArmCoreImageCarriesGammaAndK2AndKeepsTheFeature) {
   const Model model = small_block_with_arm(1e4, 5e3);
   const double dt = 1e-3;
   const driver::CoreImage img =
-      driver::make_core_image(model, initial_state(model), dt, 1, driver::FormatDesc{}, true);
+      driver::make_core_image(model, initial_state(model), dt, 1, driver::FormatDesc{},
+                              hls::kThreeElementWithArm);
   ASSERT_FALSE(img.materials.empty());
   const EdgeMaterial& m = model.materials[0];
   // The coefficient encoding is checked to 1e-3 relative (core_image.cpp).
@@ -160,7 +161,8 @@ TEST(ArmCoreImage, ArmCoreImageCarriesGammaAndK2AndKeepsTheFeature) {
 TEST(ArmCoreImage, ArmFasterThanOneStepIsRefusedWithTheMaterialNamed) {
   const Model model = small_block_with_arm(1e4, 1.0);  // c3/k2 = 0.1 ms < dt
   try {
-    driver::make_core_image(model, initial_state(model), 1e-3, 1, driver::FormatDesc{}, true);
+    driver::make_core_image(model, initial_state(model), 1e-3, 1, driver::FormatDesc{},
+                              hls::kThreeElementWithArm);
     FAIL() << "expected rheo::Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("material 0"), std::string::npos) << e.what();

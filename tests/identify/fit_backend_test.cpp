@@ -63,7 +63,7 @@ TEST(FitBackendRemote, TheFitRunsOnACosimServerWithTheArmAndAServerWithoutItIsNa
   const std::string fit = "fit " + std::string(RHEO_SOURCE_DIR) +
                           "/data/clay_fast.csv --model second_relaxation_time -q --force ";
   {
-    ServerProcess server({"--maxwell-arm"});
+    ServerProcess server({"--element", "three-element+arm"});
     const auto dir = out_dir("remote");
     const RunResult r =
         run_rheo(fit + "--backend remote:" + server.socket() + " --out " + dir.string());
@@ -77,7 +77,7 @@ TEST(FitBackendRemote, TheFitRunsOnACosimServerWithTheArmAndAServerWithoutItIsNa
   const RunResult r =
       run_rheo(fit + "--backend remote:" + plain.socket() + " --out " + dir.string());
   EXPECT_NE(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("cosim-server --maxwell-arm"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("cosim-server --element three-element+arm"), std::string::npos) << r.output;
 }
 
 // (What a core does not compute is listed: Backend.FeaturesACoreDoesNotComputeAreListed.)

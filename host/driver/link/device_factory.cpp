@@ -21,13 +21,13 @@ OpenedDevice make_device(const std::string& backend, const DeviceOptions& option
   OpenedDevice out;
   if (backend == "bittrue") {
     out.device =
-        std::make_unique<driver::Device>(std::make_unique<driver::BitTrueTransport>(options.lanes, options.maxwell_arm));
+        std::make_unique<driver::Device>(std::make_unique<driver::BitTrueTransport>(options.lanes, options.element));
     out.lanes = options.lanes;
   } else if (backend == "rtl") {
 #ifdef RHEO_HAVE_RTL
     driver::VerilatorOptions vo;
     vo.lanes = options.lanes;
-    vo.maxwell_arm = options.maxwell_arm;
+    vo.element = options.element;
     vo.trace_fst = options.trace_fst;
     vo.input_idle_prob = options.input_idle_prob;
     vo.output_stall_prob = options.output_stall_prob;

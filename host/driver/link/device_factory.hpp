@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "hls/edge_element.hpp"
 #include "host/driver/device.hpp"
 #include "host/driver/link/byte_transport.hpp"
 
@@ -17,7 +18,7 @@ namespace rheo::link {
 
 struct DeviceOptions {
   int lanes = 1;          // in-process cores; a remote core reports its own
-  bool maxwell_arm = false;  // in-process cores: the variant with the parallel Maxwell arm
+  hls::EdgeElement element = hls::kThreeElement;  // in-process cores: their edge element
   std::string trace_fst;  // rtl only
   Milliseconds timeout{10000};
   double input_idle_prob = 0.0;    // rtl only: random idle cycles on s_axis

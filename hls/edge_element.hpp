@@ -1,0 +1,72 @@
+// The edge element a core computes: which optional parts of the three-element edge its TEMs
+// carry. One descriptor is read by everything that depends on the variant, so that a new
+// variant is one table entry here plus its arithmetic, not a flag passed through every layer:
+//   - the bit-true model (core_step_for picks the kernel instantiation),
+//   - the host's core image (which coefficients and edge words it encodes, which of the
+//     model's features it keeps: host/driver/core_image.hpp),
+//   - the frame format (which regions the core accepts),
+//   - the RTL (rtl_parameters: the elaboration parameters of rheo_core / rheo_tem that build
+//     the variant, for Verilator's -G and Yosys' chparam),
+//   - the transports and backends that choose a core for a model.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include "hls/frame_format.hpp"
+#include "hls/rheo_kernel.hpp"
+
+namespace rheo::hls {
+
+// One elaboration parameter of the RTL core (name as in rtl/rheo_core.sv).
+struct RtlParameter {
+  std::string_view name;
+  int value = 0;
+};
+
+struct EdgeElement {
+  std::string_view name;  // as the command line and the reports spell it
+  std::string_view description;
+  int maxwell_arms = 0;  // parallel Maxwell arms per edge (spring k2 in series with damper c3)
+
+  constexpr bool has_maxwell_arm() const { return maxwell_arms > 0; }
+  // Packed coefficients per material the TEM reads (region Material, then MaterialArm).
+  constexpr int material_coefficients() const { return 6 + 2 * maxwell_arms; }
+  // Frame regions the core accepts; a write or read of a higher region is a bad command.
+  constexpr std::uint32_t regions() const {
+    return has_maxwell_arm() ? frame::kNumRegions : frame::kNumBaseRegions;
+  }
+  // The RTL parameters that build this variant (beside Lanes).
+  constexpr std::array<RtlParameter, 1> rtl_parameters() const {
+    return {RtlParameter{"MaxwellArm", maxwell_arms}};
+  }
+  friend constexpr bool operator==(const EdgeElement& a, const EdgeElement& b) {
+    return a.maxwell_arms == b.maxwell_arms;
+  }
+};
+
+inline constexpr EdgeElement kThreeElement{
+    "three-element", "Voigt spring+damper in series with a damper (the paper's TEM)", 0};
+inline constexpr EdgeElement kThreeElementWithArm{
+    "three-element+arm",
+    "the three-element edge with a parallel Maxwell arm (a second relaxation time)", 1};
+
+// Every variant the bit-true model and the RTL implement, simplest first.
+inline constexpr std::array<EdgeElement, 2> kEdgeElements{kThreeElement, kThreeElementWithArm};
+
+// The variant named `name`, or nullptr.
+constexpr const EdgeElement* find_edge_element(std::string_view name) {
+  for (const EdgeElement& e : kEdgeElements) {
+    if (e.name == name) return &e;
+  }
+  return nullptr;
+}
+
+// One step of the core built for `element` (the kernel instantiation of that variant).
+template <class Fmt>
+inline std::int64_t core_step_for(const EdgeElement& element, CoreMemory& mem) {
+  return element.has_maxwell_arm() ? core_step<Fmt, true>(mem) : core_step<Fmt, false>(mem);
+}
+
+}  // namespace rheo::hls
