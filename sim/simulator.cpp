@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sim/error.hpp"
+#include "sim/edge_pass.hpp"
 #include "sim/particle_rule.hpp"
 
 namespace rheo {
@@ -240,25 +241,16 @@ void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector
   mdot.resize(ne);
   sdot.resize(static_cast<std::size_t>(ne) * stride);
   if (lengths) lengths->resize(ne);
-  const Edge* edges = model_.edges.data();
-  const EdgeMaterial* materials = model_.materials.data();
-  const Vec3* x = s.x.data();
-  const Vec3* v = s.v.data();
-  Vec3* force = f.data();
-  for (int k = 0; k < ne; ++k) {
-    const Edge& e = edges[k];
-    const std::size_t arms = static_cast<std::size_t>(k) * stride;
-    const EdgeEval<double> r = evaluate_edge<double>(
-        materials[e.material], x[e.s], x[e.e], v[e.s], v[e.e], s.d[k], e.L, e.l0, s.m[k],
-        stride > 0 ? s.spectrum.data() + arms : nullptr, stride > 0 ? sdot.data() + arms : nullptr,
-        lead);
-    const Vec3 pull = (r.tension / r.length) * (x[e.e] - x[e.s]);
-    force[e.s] += pull;
-    force[e.e] -= pull;
-    ddot[k] = r.ddot;
-    mdot[k] = r.mdot;
-    if (lengths) (*lengths)[k] = r.length;
-  }
+  EdgePassArrays<double> a;
+  a.d = s.d.data();
+  a.m = s.m.data();
+  a.spectrum = s.spectrum.data();
+  a.spectrum_stride = stride;
+  a.ddot = ddot.data();
+  a.mdot = mdot.data();
+  a.sdot = sdot.data();
+  a.length = lengths ? lengths->data() : nullptr;
+  add_edge_forces<double, Vec3>(model_, s.x.data(), s.v.data(), a, lead, f.data());
   if (model_.topology.enabled) add_topology_forces(s, f);
   if (model_.volume.enabled) add_volume_forces(s, f);
 }

@@ -1,6 +1,6 @@
 // The reference model's semi-implicit Euler step (sim/simulator.cpp step_sie) with every
-// state word in a chosen scalar type, for the float backend. It evaluates the same templated
-// edge kernel (sim/edge_kernel.hpp) and the same particle rule (sim/particle_rule.hpp)
+// state word in a chosen scalar type, for the float backend. It runs the same templated
+// edge pass (sim/edge_pass.hpp) and particle rule (sim/particle_rule.hpp) as the reference,
 // instantiated for Real, and covers
 // what the hardware computes: three-element edges (with the optional kernel features),
 // gravity, floor, fixed and plate-driven particles with the unilateral plate rule.
@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/edge_kernel.hpp"
+#include "sim/edge_pass.hpp"
 #include "sim/error.hpp"
 #include "sim/model.hpp"
 #include "sim/particle_rule.hpp"
@@ -41,6 +41,7 @@ class SieLoop {
     m_.assign(model.num_edges(), Real(0));
     for (int k = 0; k < model.num_edges(); ++k) d_[k] = static_cast<Real>(model.edges[k].L);
     ddot_.resize(model.num_edges());
+    mdot_.resize(model.num_edges());
     length_.resize(model.num_edges());
   }
 
@@ -49,21 +50,14 @@ class SieLoop {
     const Real plate_z = static_cast<Real>(plate_z_m);
     const int n = model_.num_particles();
     for (auto& f : f_) f = V{Real(0), Real(0), Real(0)};
-    for (int k = 0; k < model_.num_edges(); ++k) {
-      const Edge& e = model_.edges[k];
-      const EdgeEval<Real> r = evaluate_edge<Real>(model_.materials[e.material], x_[e.s], x_[e.e],
-                                                   v_[e.s], v_[e.e], d_[k], e.L, e.l0, m_[k],
-                                                   nullptr, nullptr, double(dt_));
-      const Real scale = r.tension / r.length;
-      for (int c = 0; c < 3; ++c) {
-        const Real pull = scale * (x_[e.e][c] - x_[e.s][c]);
-        f_[e.s][c] += pull;
-        f_[e.e][c] -= pull;
-      }
-      ddot_[k] = r.ddot;
-      length_[k] = r.length;
-      m_[k] += dt_ * r.mdot;
-    }
+    EdgePassArrays<Real> a;
+    a.d = d_.data();
+    a.m = m_.data();
+    a.ddot = ddot_.data();
+    a.mdot = mdot_.data();
+    a.length = length_.data();
+    add_edge_forces<Real, V>(model_, x_.data(), v_.data(), a, double(dt_), f_.data());
+    for (int k = 0; k < model_.num_edges(); ++k) m_[k] += dt_ * mdot_[k];
     Real plate_force = Real(0);
     const V g{static_cast<Real>(model_.gravity[0]), static_cast<Real>(model_.gravity[1]),
               static_cast<Real>(model_.gravity[2])};  // as given (model.hpp)
@@ -129,7 +123,7 @@ class SieLoop {
   const Model& model_;
   Real dt_;
   std::vector<V> x_, v_, f_;
-  std::vector<Real> d_, m_, ddot_, length_;
+  std::vector<Real> d_, m_, ddot_, mdot_, length_;
   std::vector<std::uint8_t> held_;  // held by the plate in the previous step
 };
 
