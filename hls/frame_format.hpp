@@ -73,11 +73,35 @@ inline constexpr std::uint32_t kEdgeValid = 1u << kEdgeValidBit;
 // Packed coefficient: mantissa [17:0] (two's complement), shift [23:18].
 inline constexpr int kCoefShiftPos = 18;
 
+// Header word fields (shift = lowest bit). The index word that follows a WRITE or READ
+// header and the count-like global registers (kGlobalNumParticles, kGlobalEdgeRows) use
+// the same kCountBits low bits, so one counter width serves every index and count.
+inline constexpr int kHeaderOpcodeShift = 28;
+inline constexpr int kHeaderOpcodeBits = 4;
+inline constexpr int kHeaderRegionShift = 24;
+inline constexpr int kHeaderRegionBits = 4;
+inline constexpr int kHeaderCountShift = 0;
+inline constexpr int kCountBits = 24;
+inline constexpr std::uint32_t kCountMask = (1u << kCountBits) - 1;
+// Words of the longest entry (kRegionMaterial): the width of a word-within-entry counter.
+inline constexpr std::uint32_t kMaxWordsPerEntry = 7;
+static_assert(kHeaderCountShift + kCountBits <= kHeaderRegionShift &&
+              kHeaderRegionShift + kHeaderRegionBits <= kHeaderOpcodeShift &&
+              kHeaderOpcodeShift + kHeaderOpcodeBits <= 32);
+static_assert(kNumRegions <= (1u << kHeaderRegionBits));
+static_assert(kMaxWordsPerEntry == kWordsPerEntry[kRegionMaterial]);
+
 inline constexpr std::uint32_t header(Opcode op, Region region, std::uint32_t count) {
-  return (std::uint32_t(op) << 28) | (std::uint32_t(region) << 24) | (count & 0xFFFFFFu);
+  return (std::uint32_t(op) << kHeaderOpcodeShift) |
+         (std::uint32_t(region) << kHeaderRegionShift) |
+         ((count & kCountMask) << kHeaderCountShift);
 }
-inline constexpr Opcode header_opcode(std::uint32_t w) { return Opcode(w >> 28); }
-inline constexpr std::uint32_t header_region(std::uint32_t w) { return (w >> 24) & 0xF; }
-inline constexpr std::uint32_t header_count(std::uint32_t w) { return w & 0xFFFFFFu; }
+inline constexpr Opcode header_opcode(std::uint32_t w) { return Opcode(w >> kHeaderOpcodeShift); }
+inline constexpr std::uint32_t header_region(std::uint32_t w) {
+  return (w >> kHeaderRegionShift) & ((1u << kHeaderRegionBits) - 1);
+}
+inline constexpr std::uint32_t header_count(std::uint32_t w) {
+  return (w >> kHeaderCountShift) & kCountMask;
+}
 
 }  // namespace rheo::frame

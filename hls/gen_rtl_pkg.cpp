@@ -96,14 +96,37 @@ int main() {
   param("EdgeValidBit", f::kEdgeValidBit, "edge word 0: valid (0: bubble)");
   param("NumBaseRegions", f::kNumBaseRegions, "regions of a core without the Maxwell arm");
   param("StatusWords", f::kStatusWords, "words of a status response");
+  param("StatusClearBit", std::countr_zero(f::kStatusClear),
+        "status header count: clear the sticky flags after reading");
+  param("HeaderOpcodeShift", f::kHeaderOpcodeShift, "header word: opcode");
+  param("HeaderOpcodeBits", f::kHeaderOpcodeBits, "header word: opcode bits");
+  param("HeaderRegionShift", f::kHeaderRegionShift, "header word: region");
+  param("HeaderRegionBits", f::kHeaderRegionBits, "header word: region bits");
+  param("HeaderCountShift", f::kHeaderCountShift, "header word: count (entries or steps)");
+  param("IdxCountW", f::kCountBits,
+        "header count, entry index word and count registers: low bits of their word");
+  param("EntryFieldW", std::bit_width(f::kMaxWordsPerEntry),
+        "word within an entry, and an entry's word count");
+  param("ParticleStateWords", f::kWordsPerEntry[f::kRegionParticleState],
+        "particle state entry: x[3], p[3]");
+  param("MaterialCoefs", f::kWordsPerEntry[f::kRegionMaterial] - 1,
+        "material entry: packed coefficients before its flags word");
+  param("MaterialArmCoefs", f::kWordsPerEntry[f::kRegionMaterialArm],
+        "arm material entry: packed coefficients");
+  param("MatFlagsW", std::bit_width(unsigned(h::kClampLowEnable | h::kClampHighEnable)),
+        "material flags word: bits used");
+  param("ParticleFlagsW", std::bit_width(unsigned(h::kCoreFixed | h::kCorePlate)),
+        "particle flags word: bits used");
   std::printf("\n  // Words per entry of each region.\n");
   std::printf(
-      "  function automatic logic [2:0] words_per_entry(input logic [3:0] region);\n"
+      "  function automatic logic [EntryFieldW-1:0] words_per_entry(\n"
+      "      input logic [HeaderRegionBits-1:0] region);\n"
       "    case (region)\n");
   for (unsigned r = 0; r < f::kNumRegions; ++r)
-    std::printf("      4'd%u: words_per_entry = 3'd%u;\n", r, f::kWordsPerEntry[r]);
+    std::printf("      HeaderRegionBits'(%u): words_per_entry = EntryFieldW'(%u);\n", r,
+                f::kWordsPerEntry[r]);
   std::printf(
-      "      default: words_per_entry = 3'd0;\n"
+      "      default: words_per_entry = '0;\n"
       "    endcase\n"
       "  endfunction\n\n");
   std::printf(

@@ -70,19 +70,33 @@ package rheo_consts_pkg;
   localparam int EdgeValidBit = 31;  // edge word 0: valid (0: bubble)
   localparam int NumBaseRegions = 6;  // regions of a core without the Maxwell arm
   localparam int StatusWords = 4;  // words of a status response
+  localparam int StatusClearBit = 0;  // status header count: clear the sticky flags after reading
+  localparam int HeaderOpcodeShift = 28;  // header word: opcode
+  localparam int HeaderOpcodeBits = 4;  // header word: opcode bits
+  localparam int HeaderRegionShift = 24;  // header word: region
+  localparam int HeaderRegionBits = 4;  // header word: region bits
+  localparam int HeaderCountShift = 0;  // header word: count (entries or steps)
+  localparam int IdxCountW = 24;  // header count, entry index word and count registers: low bits of their word
+  localparam int EntryFieldW = 3;  // word within an entry, and an entry's word count
+  localparam int ParticleStateWords = 6;  // particle state entry: x[3], p[3]
+  localparam int MaterialCoefs = 6;  // material entry: packed coefficients before its flags word
+  localparam int MaterialArmCoefs = 2;  // arm material entry: packed coefficients
+  localparam int MatFlagsW = 2;  // material flags word: bits used
+  localparam int ParticleFlagsW = 2;  // particle flags word: bits used
 
   // Words per entry of each region.
-  function automatic logic [2:0] words_per_entry(input logic [3:0] region);
+  function automatic logic [EntryFieldW-1:0] words_per_entry(
+      input logic [HeaderRegionBits-1:0] region);
     case (region)
-      4'd0: words_per_entry = 3'd1;
-      4'd1: words_per_entry = 3'd6;
-      4'd2: words_per_entry = 3'd5;
-      4'd3: words_per_entry = 3'd4;
-      4'd4: words_per_entry = 3'd7;
-      4'd5: words_per_entry = 3'd1;
-      4'd6: words_per_entry = 3'd2;
-      4'd7: words_per_entry = 3'd1;
-      default: words_per_entry = 3'd0;
+      HeaderRegionBits'(0): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(1): words_per_entry = EntryFieldW'(6);
+      HeaderRegionBits'(2): words_per_entry = EntryFieldW'(5);
+      HeaderRegionBits'(3): words_per_entry = EntryFieldW'(4);
+      HeaderRegionBits'(4): words_per_entry = EntryFieldW'(7);
+      HeaderRegionBits'(5): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(6): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(7): words_per_entry = EntryFieldW'(1);
+      default: words_per_entry = '0;
     endcase
   endfunction
 

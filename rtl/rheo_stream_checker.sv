@@ -16,7 +16,12 @@
 // division's remainder (which becomes the bank) stay in their ranges.
 // Yosys 0.23 takes no action block after an immediate assertion: the message is for
 // simulation only.
-`ifdef FORMAL
+// Synthesis reads this file too (it is in the core's one source list, rtl/sources.cmake)
+// but never elaborates the module (`ifndef SYNTHESIS at its instance); the action block
+// still has to parse.
+`ifdef SYNTHESIS
+`define RHEO_CHECK(cond, msg) assert (cond);
+`elsif FORMAL
 `define RHEO_CHECK(cond, msg) assert (cond);
 `else
 `define RHEO_CHECK(cond, msg) assert (cond) else $error(msg);

@@ -19,6 +19,7 @@
 #include "host/output/staged_directory.hpp"
 #include "host/synth/delay_model.hpp"
 #include "host/synth/performance_model.hpp"
+#include "host/synth/rtl_sources.hpp"
 #include "host/synth/yosys_runner.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
@@ -178,29 +179,27 @@ void run(const Options& opt) {
   for (const std::string& label : opt.designs) {
     synth::DesignSpec spec;
     spec.label = label;
+    // Source lists: rtl/sources.cmake, the same the Verilator models are built from.
     if (label == "tem") {
       spec.top = "rheo_tem";
-      spec.sources = {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+      spec.sources = synth::rtl_sources::kTemFiles;
     } else if (label == "tem_arm") {
       // The TEM with the parallel Maxwell arm (second_relaxation_time, issue 6).
       spec.top = "rheo_tem";
-      spec.sources = {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv", "rheo_tem.sv"};
+      spec.sources = synth::rtl_sources::kTemFiles;
       spec.params = {"MaxwellArm=1"};
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
-      spec.sources = {"rheo_consts_pkg.sv", "rheo_mpm.sv"};
+      spec.sources = synth::rtl_sources::kMpmFiles;
     } else if (label == "core") {
       spec.top = opt.core_top;
-      spec.sources = {"rheo_consts_pkg.sv"};
-      std::vector<std::string> others;
-      for (const auto& entry : fs::directory_iterator(setup.rtl_dir)) {
-        const std::string name = entry.path().filename().string();
-        if (entry.path().extension() == ".sv" && name != "rheo_consts_pkg.sv") {
-          others.push_back(name);
-        }
+      spec.sources = synth::rtl_sources::kCoreFiles;
+      // Another top (--core-top) is read from the file named after it, after the core's
+      // modules it may instantiate.
+      const std::string top_file = opt.core_top + ".sv";
+      if (std::find(spec.sources.begin(), spec.sources.end(), top_file) == spec.sources.end()) {
+        spec.sources.push_back(top_file);
       }
-      std::sort(others.begin(), others.end());
-      spec.sources.insert(spec.sources.end(), others.begin(), others.end());
       spec.params = {"Lanes=" + std::to_string(opt.lanes)};
       spec.params.insert(spec.params.end(), kCoreCapacityParams.begin(), kCoreCapacityParams.end());
     } else {

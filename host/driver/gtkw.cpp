@@ -51,6 +51,8 @@ struct Group {
 // command FSM and its counters, then per lane the edge pass (TEM inputs and outputs) and
 // the mass-point pass (MPM inputs and outputs). Names carry no '.': GTKWave cuts a trace
 // name at its last '.' as if it were a hierarchy.
+// Signals are paths below the core's scope: the controller's registers sit in u_ctrl
+// (rtl/rheo_core_ctrl.sv), the plate force sums in u_plate (rtl/rheo_core_plate_acc.sv).
 const std::vector<Group> kTraceGroups = {
     {"Stream in (s_axis)",
      false,
@@ -73,20 +75,20 @@ const std::vector<Group> kTraceGroups = {
     {"Control",
      false,
      {
-         {"state_q", Show::kEnum, Expect::kAny, "state_q"},
+         {"u_ctrl.state_q", Show::kEnum, Expect::kAny, "state_q"},
          {"busy_o", Show::kBit, Expect::kAny, "busy_o"},
-         {"step_count_q", Show::kUnsigned, Expect::kAny, "step_count_q"},
-         {"cycle_count_q", Show::kUnsigned, Expect::kAny, "cycle_count_q"},
-         {"row_q", Show::kUnsigned, Expect::kAny, "row_q"},
-         {"base_q", Show::kUnsigned, Expect::kAny, "base_q"},
-         {"drain_q", Show::kUnsigned, Expect::kAny, "drain_q"},
-         {"count_q", Show::kUnsigned, Expect::kAny, "count_q"},
-         {"edge_rows_q", Show::kUnsigned, Expect::kAny, "edge_rows_q"},
-         {"num_particles_q", Show::kUnsigned, Expect::kAny, "num_particles_q"},
+         {"u_ctrl.step_count_q", Show::kUnsigned, Expect::kAny, "step_count_q"},
+         {"u_ctrl.cycle_count_q", Show::kUnsigned, Expect::kAny, "cycle_count_q"},
+         {"u_ctrl.row_q", Show::kUnsigned, Expect::kAny, "row_q"},
+         {"u_ctrl.base_q", Show::kUnsigned, Expect::kAny, "base_q"},
+         {"u_ctrl.drain_q", Show::kUnsigned, Expect::kAny, "drain_q"},
+         {"u_ctrl.count_q", Show::kUnsigned, Expect::kAny, "count_q"},
+         {"u_ctrl.edge_rows_q", Show::kUnsigned, Expect::kAny, "edge_rows_q"},
+         {"u_ctrl.num_particles_q", Show::kUnsigned, Expect::kAny, "num_particles_q"},
          {"plate_z_q", Show::kPosition, Expect::kWord, "plate_z_q"},
-         {"plate_in_q", Show::kForce, Expect::kWide, "plate_in_q"},
-         {"plate_acc_q", Show::kForce, Expect::kWide, "plate_acc_q"},
-         {"status_q", Show::kHex, Expect::kAny, "status_q"},
+         {"u_plate.plate_in_q", Show::kForce, Expect::kWide, "plate_in_q"},
+         {"u_plate.plate_acc_q", Show::kForce, Expect::kWide, "plate_acc_q"},
+         {"u_ctrl.status_q", Show::kHex, Expect::kAny, "status_q"},
          {"schedule_conflict", Show::kBit, Expect::kAny, "schedule_conflict"},
      }},
     {"Lane {L} edge pass (TEM)",

@@ -7,26 +7,27 @@
 # The core is elaborated with small memories and its datapath modules (TEM, MPM, force
 # accumulators, memories) become cut points: their outputs are free values at every clock.
 # The properties then hold whatever those modules compute, and the solver only sees the
-# core's own logic (FSM, counters, handshake and output registers, read-back and plate
-# force paths). The whole core with its pipelines is beyond z3 here (one lane, 4
+# core's own logic (the controller rheo_core_ctrl with its FSM, counters, handshake and
+# output registers; the crossbar, read-back and plate force paths). The memory modules
+# rheo_core_mem_* keep only their address and write-enable decoding once the memories
+# inside them are cut. The whole core with its pipelines is beyond z3 here (one lane, 4
 # particles, 4 edge slots: 54 s to reach clock 9 of the bounded check, over a minute per
 # clock after it, and the first induction step unfinished after 3 minutes).
 #
-# Usage: prove_core_streams.sh RTL_DIR WORK_DIR [LANES...]   (default lanes: 1 2 3)
+# Usage: prove_core_streams.sh WORK_DIR "LANES..." FILE...
+#   FILE...: the core's sources in elaboration order (the CORE list of rtl/sources.cmake,
+#   which tests/formal/CMakeLists.txt passes), e.g. "1 2 3" for LANES.
 # Exits non-zero when a property fails (yosys-smtbmc prints the failing assertion).
 set -eu
-rtl=$1
-work=$2
+work=$1
+lanes=$2
 shift 2
-lanes=${*:-1 2 3}
+files="$*"
+[ -n "$files" ] || { echo "usage: $0 WORK_DIR LANES FILE..." >&2; exit 2; }
 bmc_depth=12      # from reset: past the 4-particle clear, a STATUS command and its words
 induction_depth=6
 
 mkdir -p "$work"
-sources="rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_tem.sv rheo_mpm.sv \
-rheo_ram_sdp.sv rheo_ram_tdp.sv rheo_force_acc.sv rheo_stream_checker.sv rheo_core.sv"
-files=""
-for f in $sources; do files="$files $rtl/$f"; done
 
 for l in $lanes; do
   smt="$work/rheo_core_l$l.smt2"
