@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "hls/edge_element.hpp"
 #include "hls/fixed_format.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
@@ -135,14 +136,12 @@ Resources sum(const Resources& a, const Resources& b) {
 // not wall time: the machine is shared, and other jobs must not inflate the figure.
 double reference_seconds_per_step(const Scenario& scenario) {
   Simulator sim(scenario.build_model(), scenario.options);
-  const double height = sim.model().height;
-  const double dt = scenario.options.dt;
   long long steps = 0;
   const std::clock_t start = std::clock();
   double elapsed = 0.0;
   do {
     for (int i = 0; i < 10; ++i, ++steps) {
-      sim.step(height - scenario.protocol.displacement_mm((steps + 1) * dt) * 1e-3);
+      sim.step(scenario.plate_z(sim.model(), steps + 1));
     }
     elapsed = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
   } while (elapsed < kReferenceTimingSeconds);
@@ -187,7 +186,8 @@ void run(const Options& opt) {
       // The TEM with the parallel Maxwell arm (second_relaxation_time, issue 6).
       spec.top = "rheo_tem";
       spec.sources = synth::rtl_sources::kTemFiles;
-      spec.params = {"MaxwellArm=1"};
+      for (const hls::RtlParameter& p : hls::kThreeElementWithArm.rtl_parameters())
+        spec.params.push_back(std::string(p.name) + "=" + std::to_string(p.value));
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
       spec.sources = synth::rtl_sources::kMpmFiles;
