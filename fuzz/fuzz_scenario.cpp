@@ -55,11 +55,12 @@ void use(const rheo::Scenario& s) {
     for (int step = 0; step < kSteps; ++step) sim.step(s.plate_z(model, step));
   });
   expect_error_or_success([&] {
-    const rheo::Model hw =
-        rheo::driver::hardware_model(s.build_model(), nullptr, s.block.material.k2 > 0.0);
+    const rheo::Model model = s.build_model();
+    const rheo::hls::EdgeElement& element = rheo::driver::edge_element_for(model);
+    const rheo::Model hw = rheo::driver::hardware_model(model, nullptr, element);
     const rheo::State state = rheo::initial_state(hw);
-    const auto image = rheo::driver::make_core_image(
-        hw, state, s.options.dt, 1, rheo::driver::FormatDesc{}, s.block.material.k2 > 0.0);
+    const auto image = rheo::driver::make_core_image(hw, state, s.options.dt, 1,
+                                                     rheo::driver::FormatDesc{}, element);
     (void)rheo::driver::image_frames(image);
     for (int step = 0; step < kSteps; ++step) {
       (void)rheo::driver::to_x_word(s.plate_z(hw, step), image, "plate height");
