@@ -161,6 +161,8 @@ Model make_block(const BlockSpec& spec) {
 
   const double particle_mass = spec.density * volume / n * spec.mass_scale;
   model.mass.assign(n, particle_mass);
+  model.topology = spec.topology;
+  model.volume = spec.volume;
   model.mass_scale = spec.mass_scale;
   model.size = std::max({spec.sx, three_d ? spec.sy : 0.0, spec.sz});
   model.height = spec.sz;

@@ -39,6 +39,9 @@ struct BlockSpec {
   double density = 1800.0;  // [kg/m^3]
   double mass_scale = 1.0;  // multiplies every particle mass (documented)
   EdgeMaterial material;    // moduli [Pa], viscosities [Pa s], f1/f2 [Pa]
+  // Element forces beside the edges (model.hpp), copied into the model as given.
+  TopologyMaintenance topology;
+  VolumePreservation volume;
   bool fix_bottom = true;   // bottom layer fixed (the floor)
   bool plate_top = true;    // top layer touched by the plate
 };

@@ -183,7 +183,8 @@ void read_mesh(const Field& mesh, BlockSpec& block) {
 
 void read_material(const Field& material, BlockSpec& block) {
   material.expect_object(
-      {"density", "k1", "c1", "c2", "a_min", "a_max", "nonlinear_damper", "hardening", "k2", "c3"});
+      {"density", "k1", "c1", "c2", "a_min", "a_max", "nonlinear_damper", "hardening", "k2", "c3",
+       "spectrum", "volume_kv"});
   EdgeMaterial& m = block.material;
   block.density = material["density"].positive(" [kg/m^3]");
   m.k1 = material["k1"].non_negative(" [Pa]");
@@ -219,6 +220,39 @@ void read_material(const Field& material, BlockSpec& block) {
     m.k2 = material["k2"].non_negative(" [Pa]");
     m.c3 = material["c3"].non_negative(" [Pa s]");
   }
+  if (material.has("spectrum")) {
+    // Further parallel Maxwell arms, each a modulus and a viscosity like k2/c3.
+    const Field spectrum = material["spectrum"];
+    if (!spectrum.value().is_array() || spectrum.value().empty() ||
+        spectrum.value().size() > std::size_t(EdgeMaterial::kMaxSpectrumArms)) {
+      spectrum.fail("an array of 1 to " + std::to_string(EdgeMaterial::kMaxSpectrumArms) +
+                    " arms {\"k\": Pa, \"c\": Pa s}");
+    }
+    m.spectrum_arms = static_cast<int>(spectrum.value().size());
+    for (int j = 0; j < m.spectrum_arms; ++j) {
+      const Field arm = spectrum.at(std::size_t(j));
+      arm.expect_object({"k", "c"});
+      m.spectrum[j].k = arm["k"].positive(" [Pa]");
+      m.spectrum[j].c = arm["c"].positive(" [Pa s]");
+    }
+  }
+  if (material.has("volume_kv")) {
+    // Area (2-D) / volume (3-D) preserving forces per element (model.hpp).
+    block.volume.enabled = true;
+    block.volume.kv = material["volume_kv"].positive(block.dim == 3 ? " [Pa]" : " [N/m]");
+  }
+}
+
+void read_topology(const Field& topology, BlockSpec& block) {
+  topology.expect_object({"eps", "k_n_m", "c_ns_m"});
+  TopologyMaintenance& t = block.topology;
+  t.enabled = true;
+  const Field eps = topology["eps"];
+  t.eps = eps.positive(" (fraction of the rest distance)");
+  if (t.eps > 1.0) eps.fail("a fraction in (0, 1] of the rest distance");
+  t.k = topology["k_n_m"].non_negative(" [N/m]");
+  t.c = topology["c_ns_m"].non_negative(" [N s/m]");
+  if (!(t.k + t.c > 0.0)) topology["k_n_m"].fail("k_n_m + c_ns_m > 0 (a push needs a spring or a damper)");
 }
 
 void read_integrator(const Field& integrator, Scenario& s) {
@@ -381,13 +415,14 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
     throw Error(where + ": malformed JSON: " + detail + " (not representable as a double)");
   }
   const Field top(file, root, "");
-  top.expect_object({"name", "description", "mesh", "material", "integrator", "protocol", "output",
-                     "duration_s"});
+  top.expect_object({"name", "description", "mesh", "material", "topology_maintenance",
+                     "integrator", "protocol", "output", "duration_s"});
   Scenario s;
   s.name = top["name"].string();
   if (top.has("description")) s.description = top["description"].string();
   read_mesh(top["mesh"], s.block);
   read_material(top["material"], s.block);
+  if (top.has("topology_maintenance")) read_topology(top["topology_maintenance"], s.block);
   read_integrator(top["integrator"], s);
   read_protocol(top["protocol"], s);
   if (top.has("output")) read_output(top["output"], s);

@@ -46,6 +46,7 @@ struct SimulateArgs {
   bool no_plot = false;
   std::string backend = "ref";  // a backend::make_backend spec
   int lanes = hls::kDefaultLanes;
+  bool allow_dropped = false;  // run on a backend that leaves out features of the scenario
 };
 
 // Ctrl-C during a long run: finish the current step, then fail like any other error so
@@ -149,7 +150,18 @@ void run_simulate(const SimulateArgs& args) {
       backend::make_backend(args.backend, backend_options);
   const State start_state = initial_state(model);
   engine->load(model, start_state, scenario.options);
-  for (const std::string& f : engine->dropped_features()) {
+  // A backend that cannot compute part of the scenario would simulate another object: that
+  // is refused unless asked for, and then said.
+  const std::vector<std::string> dropped = engine->dropped_features();
+  if (!dropped.empty() && !args.allow_dropped) {
+    std::string list;
+    for (const std::string& f : dropped) list += (list.empty() ? "" : "; ") + f;
+    throw Error("backend " + engine->name() + " does not compute part of scenario " +
+                scenario.name + ": " + list +
+                ". Run it on --backend ref, or pass --allow-dropped to simulate the object "
+                "without them");
+  }
+  for (const std::string& f : dropped) {
     std::cerr << "rheo simulate: note: backend " << engine->name() << " leaves out " << f << "\n";
   }
   output::StagedDirectory out(args.output.out, args.output.force);
@@ -300,6 +312,9 @@ void register_simulate(CLI::App& app) {
   duration->excludes(steps);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
   cmd->add_flag("--no-plot", args->no_plot, "do not draw plot.png (no gnuplot needed)");
+  cmd->add_flag("--allow-dropped", args->allow_dropped,
+                "run on a backend that leaves out features of the scenario (e.g. topology "
+                "maintenance on a core); without it such a run is refused, naming them");
   cmd->add_option("--backend", args->backend,
                   "what computes the run: " + backend::backend_names() +
                       " (docs/backends.md); ref is the double reference, float the hardware's "

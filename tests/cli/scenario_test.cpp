@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include <filesystem>
 #include <fstream>
@@ -228,6 +230,68 @@ TEST(BadScenario, TableProtocolIsAccepted) {
   ScenarioFile f(j.dump());
   const Scenario s = load_scenario(f.path());
   EXPECT_DOUBLE_EQ(s.protocol.displacement_mm(0.5), 1.0);
+}
+
+// Every feature of the reference model is reachable from a scenario file: topology
+// maintenance, volume preservation and a relaxation spectrum reach the model, and the model
+// they build runs and differs from the one without them.
+TEST(ScenarioFeatures, TopologyVolumeAndSpectrumKeysReachTheModel) {
+  json j = block5_json();
+  j["topology_maintenance"] = {{"eps", 0.3}, {"k_n_m", 200.0}, {"c_ns_m", 0.5}};
+  j["material"]["volume_kv"] = 2e4;
+  j["material"]["spectrum"] = json::array({{{"k", 1e4}, {"c", 50.0}}, {{"k", 5e3}, {"c", 500.0}}});
+  ScenarioFile f(j.dump());
+  const Scenario s = load_scenario(f.path());
+  const Model m = s.build_model();
+  EXPECT_TRUE(m.topology.enabled);
+  EXPECT_DOUBLE_EQ(m.topology.eps, 0.3);
+  EXPECT_DOUBLE_EQ(m.topology.k, 200.0);
+  EXPECT_DOUBLE_EQ(m.topology.c, 0.5);
+  EXPECT_TRUE(m.volume.enabled);
+  EXPECT_DOUBLE_EQ(m.volume.kv, 2e4);
+  ASSERT_EQ(m.materials.front().spectrum_arms, 2);
+  // Moduli are mapped to edges like k2 (sim/mesh.hpp): the ratio of the arms stays.
+  EXPECT_NEAR(m.materials.front().spectrum[0].k / m.materials.front().spectrum[1].k, 2.0, 1e-12);
+  EXPECT_GT(m.materials.front().spectrum[0].k, 0.0);
+
+  const Model plain = load_scenario("block5").build_model();
+  Simulator with(m, s.options), without(plain, s.options);
+  double max_diff = 0.0;
+  for (long step = 1; step <= 2000; ++step) {
+    const double fw = with.step(s.plate_z(m, step)).plate_force_N;
+    const double fo = without.step(s.plate_z(plain, step)).plate_force_N;
+    ASSERT_TRUE(std::isfinite(fw));
+    max_diff = std::max(max_diff, std::fabs(fw - fo));
+  }
+  EXPECT_GT(max_diff, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    FeatureFields, BadValueTest,
+    testing::Values(BadValue{"/topology_maintenance/eps", 1.5, "(0, 1]"},
+                    BadValue{"/topology_maintenance", 3.0, "an object"},
+                    BadValue{"/material/volume_kv", 0.0, "positive"},
+                    BadValue{"/material/spectrum", json::array(), "an array of 1 to 8"}),
+    [](const testing::TestParamInfo<BadValue>& info) {
+      std::string name = std::to_string(info.index);
+      for (const char* c = info.param.pointer; *c; ++c) {
+        name += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
+      }
+      return name;
+    });
+
+TEST(BadScenario, ASpectrumArmWithANegativeModulusIsNamed) {
+  json j = block5_json();
+  j["material"]["spectrum"] = json::array({{{"k", 1e4}, {"c", 1.0}}, {{"k", -1.0}, {"c", 1.0}}});
+  const std::string error = load_error(j);
+  EXPECT_NE(error.find("/material/spectrum/1/k: expected a positive"), std::string::npos) << error;
+}
+
+TEST(BadScenario, TopologyMaintenanceNeedsASpringOrADamper) {
+  json j = block5_json();
+  j["topology_maintenance"] = {{"eps", 0.2}, {"k_n_m", 0.0}, {"c_ns_m", 0.0}};
+  const std::string error = load_error(j);
+  EXPECT_NE(error.find("/topology_maintenance/k_n_m"), std::string::npos) << error;
 }
 
 TEST(BadScenario, UnstableTimeStepIsRefusedWithTheLargestSafeDt) {

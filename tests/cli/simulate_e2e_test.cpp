@@ -212,6 +212,30 @@ TEST_F(SimulateTest, EveryBackendWritesTheSameRowsWithinItsArithmeticError) {
   }
 }
 
+// A scenario with features a backend does not compute (topology maintenance, volume forces
+// on the core) is refused there, naming them, and writes nothing; --allow-dropped runs it
+// and says what was left out.
+TEST_F(SimulateTest, FeaturesABackendLeavesOutAreRefusedUnlessAllowed) {
+  nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
+  j["topology_maintenance"] = {{"eps", 0.2}, {"k_n_m", 100.0}, {"c_ns_m", 0.1}};
+  j["material"]["volume_kv"] = 1e4;
+  const std::string file = (fs::path(out()).parent_path() / "scenario.json").string();
+  std::ofstream(file) << j.dump(2);
+  const std::string base = "simulate --scenario " + file + " --steps 50 --quiet --no-plot ";
+  RunResult r = run_rheo(base + "--backend bittrue --out " + out());
+  EXPECT_NE(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("topology-maintenance forces"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("volume-preserving forces"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--allow-dropped"), std::string::npos) << r.output;
+  expect_no_output();
+  r = run_rheo(base + "--backend bittrue --allow-dropped --out " + out());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("leaves out topology-maintenance forces"), std::string::npos) << r.output;
+  // The reference computes them: no flag needed.
+  r = run_rheo(base + "--backend ref --force --out " + out());
+  EXPECT_EQ(r.status, 0) << r.output;
+}
+
 TEST_F(SimulateTest, UnstableTimeStepFailsWithTheLargestSafeDtAndWritesNothing) {
   nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
   j["integrator"]["dt_s"] = 0.05;
