@@ -170,8 +170,8 @@ std::string write_trace_gtkw(const CosimResult& r, const CosimOptions& opt,
                 " lies outside the times of " + opt.trace_fst);
   driver::GtkwOptions g;
   g.lanes = r.lanes;
-  g.maxwell_arm = hls::find_edge_element(r.element) &&
-                  hls::find_edge_element(r.element)->has_maxwell_arm();
+  const hls::EdgeElement* element = hls::find_edge_element(r.element);
+  g.maxwell_arm = element && element->has_maxwell_arm();
   // The RTL implements the hardware format (rtl/rheo_consts_pkg.sv is generated from it).
   g.format = driver::FormatDesc::of<hls::HardwareFormat>();
   g.units = driver::Units{r.length_unit_m, r.force_unit_N, r.dt_s};

@@ -166,6 +166,16 @@ struct BadValue {
 
 class BadValueTest : public testing::TestWithParam<BadValue> {};
 
+// Stable names (index and field): the default name prints the parameter's bytes, which
+// hold heap addresses and so differ between test discovery and the test run.
+std::string bad_value_name(const testing::TestParamInfo<BadValue>& info) {
+  std::string name = std::to_string(info.index);
+  for (const char* c = info.param.pointer; *c; ++c) {
+    name += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
+  }
+  return name;
+}
+
 TEST_P(BadValueTest, IsRejectedNamingTheFieldAndWhatWasExpected) {
   const BadValue& bad = GetParam();
   json j = block5_json();
@@ -193,15 +203,7 @@ INSTANTIATE_TEST_SUITE_P(
                     BadValue{"/protocol/depth_mm", 50.0, "below the block height"},
                     BadValue{"/protocol/speed_mm_s", 0.0, "positive"},
                     BadValue{"/protocol/type", "sine", "push_hold_release"}),
-    // Stable names (index and field): the default name prints the parameter's bytes, which
-    // hold heap addresses and so differ between test discovery and the test run.
-    [](const testing::TestParamInfo<BadValue>& info) {
-      std::string name = std::to_string(info.index);
-      for (const char* c = info.param.pointer; *c; ++c) {
-        name += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
-      }
-      return name;
-    });
+    bad_value_name);
 
 TEST(BadScenario, ProtocolTimesMustIncreaseStrictly) {
   json j = block5_json();
@@ -272,13 +274,7 @@ INSTANTIATE_TEST_SUITE_P(
                     BadValue{"/topology_maintenance", 3.0, "an object"},
                     BadValue{"/material/volume_kv", 0.0, "positive"},
                     BadValue{"/material/spectrum", json::array(), "an array of 1 to 8"}),
-    [](const testing::TestParamInfo<BadValue>& info) {
-      std::string name = std::to_string(info.index);
-      for (const char* c = info.param.pointer; *c; ++c) {
-        name += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
-      }
-      return name;
-    });
+    bad_value_name);
 
 TEST(BadScenario, ASpectrumArmWithANegativeModulusIsNamed) {
   json j = block5_json();
