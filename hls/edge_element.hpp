@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <string_view>
+#include <utility>
 
 #include "hls/frame_format.hpp"
 #include "hls/rheo_kernel.hpp"
@@ -28,18 +29,21 @@ struct RtlParameter {
 struct EdgeElement {
   std::string_view name;  // as the command line and the reports spell it
   std::string_view description;
-  int maxwell_arms = 0;  // parallel Maxwell arms per edge (spring k2 in series with damper c3)
+  // Parallel Maxwell arms per edge (each a spring in series with a damper, with its own
+  // extension state), 0..kMaxArms.
+  int maxwell_arms = 0;
 
   constexpr bool has_maxwell_arm() const { return maxwell_arms > 0; }
-  // Packed coefficients per material the TEM reads (region Material, then MaterialArm).
+  // Packed coefficients per material the TEM reads (region Material, then the arms').
   constexpr int material_coefficients() const { return 6 + 2 * maxwell_arms; }
-  // Frame regions the core accepts; a write or read of a higher region is a bad command.
+  // Frame regions the core accepts (the base regions and a region pair per arm); a write
+  // or read of a higher region is a bad command.
   constexpr std::uint32_t regions() const {
-    return has_maxwell_arm() ? frame::kNumRegions : frame::kNumBaseRegions;
+    return frame::kNumBaseRegions + 2 * std::uint32_t(maxwell_arms);
   }
   // The RTL parameters that build this variant (beside Lanes).
   constexpr std::array<RtlParameter, 1> rtl_parameters() const {
-    return {RtlParameter{"MaxwellArm", maxwell_arms}};
+    return {RtlParameter{"MaxwellArms", maxwell_arms}};
   }
   friend constexpr bool operator==(const EdgeElement& a, const EdgeElement& b) {
     return a.maxwell_arms == b.maxwell_arms;
@@ -51,9 +55,13 @@ inline constexpr EdgeElement kThreeElement{
 inline constexpr EdgeElement kThreeElementWithArm{
     "three-element+arm",
     "the three-element edge with a parallel Maxwell arm (a second relaxation time)", 1};
+inline constexpr EdgeElement kThreeElementWith4Arms{
+    "three-element+4arms",
+    "the three-element edge with four parallel Maxwell arms (a relaxation spectrum)", kMaxArms};
 
-// Every variant the bit-true model and the RTL implement, simplest first.
-inline constexpr std::array<EdgeElement, 2> kEdgeElements{kThreeElement, kThreeElementWithArm};
+// Every variant the bit-true model and the RTL implement, simplest (fewest arms) first.
+inline constexpr std::array<EdgeElement, 3> kEdgeElements{kThreeElement, kThreeElementWithArm,
+                                                          kThreeElementWith4Arms};
 
 // The variant named `name`, or nullptr.
 constexpr const EdgeElement* find_edge_element(std::string_view name) {
@@ -63,10 +71,32 @@ constexpr const EdgeElement* find_edge_element(std::string_view name) {
   return nullptr;
 }
 
+// The simplest variant with at least `arms` Maxwell arms, or nullptr.
+constexpr const EdgeElement* edge_element_with_arms(int arms) {
+  for (const EdgeElement& e : kEdgeElements) {
+    if (e.maxwell_arms >= arms) return &e;
+  }
+  return nullptr;
+}
+
+namespace detail {
+template <class Fmt, std::size_t... I>
+inline std::int64_t core_step_for(const EdgeElement& element, CoreMemory& mem,
+                                  std::index_sequence<I...>) {
+  std::int64_t plate = 0;
+  // Exactly one variant has the element's arm count (the names and counts are unique).
+  ((element.maxwell_arms == kEdgeElements[I].maxwell_arms
+        ? (plate = core_step<Fmt, kEdgeElements[I].maxwell_arms>(mem), true)
+        : false) ||
+   ...);
+  return plate;
+}
+}  // namespace detail
+
 // One step of the core built for `element` (the kernel instantiation of that variant).
 template <class Fmt>
 inline std::int64_t core_step_for(const EdgeElement& element, CoreMemory& mem) {
-  return element.has_maxwell_arm() ? core_step<Fmt, true>(mem) : core_step<Fmt, false>(mem);
+  return detail::core_step_for<Fmt>(element, mem, std::make_index_sequence<kEdgeElements.size()>{});
 }
 
 }  // namespace rheo::hls

@@ -29,15 +29,40 @@ enum Region : std::uint32_t {
   kRegionEdge = 3,            // edge slot: packed ends (see kEdgeValid), L, d, material
   kRegionMaterial = 4,        // alpha, beta, kt, ct, a_min, a_max (packed), flags
   kRegionEdgeLength = 5,      // d only (read back the Voigt lengths), per edge slot
-  // Parallel Maxwell arm (cores built with MaxwellArm = 1 only; others flag a bad command):
-  kRegionMaterialArm = 6,  // gamma, k2t (packed): the arm's decay and force coefficients
-  kRegionEdgeArm = 7,      // m: the arm spring's extension (X format), per edge slot
-  kNumRegions = 8,
+  // Parallel Maxwell arms, one pair of regions per arm j (arm j of a core built with
+  // MaxwellArms = K > j; other cores flag a bad command):
+  //   kRegionMaterialArm + 2 j: gamma_j, k2t_j (packed): the arm's decay and force coefficients
+  //   kRegionEdgeArm + 2 j:     m_j: the arm spring's extension (X format), per edge slot
+  kRegionMaterialArm = 6,
+  kRegionEdgeArm = 7,
+  kNumRegions = 14,  // the base regions and kMaxArms arms
 };
 
-inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1};
-// Regions a core without the Maxwell arm accepts.
+// Parallel Maxwell arms a core can carry: one region pair each, in the header's region field.
+inline constexpr int kMaxArms = 4;
+// Regions a core without Maxwell arms accepts.
 inline constexpr std::uint32_t kNumBaseRegions = kRegionMaterialArm;
+static_assert(kNumRegions == kNumBaseRegions + 2 * kMaxArms);
+
+inline constexpr Region material_arm_region(int arm) {
+  return Region(kRegionMaterialArm + 2 * arm);
+}
+inline constexpr Region edge_arm_region(int arm) { return Region(kRegionEdgeArm + 2 * arm); }
+// The arm a region belongs to (-1 for a base region).
+inline constexpr int arm_of_region(std::uint32_t region) {
+  return region >= kNumBaseRegions && region < kNumRegions
+             ? int(region - kNumBaseRegions) / 2
+             : -1;
+}
+inline constexpr bool is_material_arm_region(std::uint32_t region) {
+  return arm_of_region(region) >= 0 && (region - kRegionMaterialArm) % 2 == 0;
+}
+inline constexpr bool is_edge_arm_region(std::uint32_t region) {
+  return arm_of_region(region) >= 0 && (region - kRegionEdgeArm) % 2 == 0;
+}
+
+inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1,
+                                                              2, 1, 2, 1, 2, 1};
 
 enum GlobalRegister : std::uint32_t {
   kGlobalNumParticles = 0,

@@ -76,8 +76,9 @@ int main() {
   param("RegionEdge", f::kRegionEdge, "region");
   param("RegionMaterial", f::kRegionMaterial, "region");
   param("RegionEdgeLength", f::kRegionEdgeLength, "region");
-  param("RegionMaterialArm", f::kRegionMaterialArm, "region");
-  param("RegionEdgeArm", f::kRegionEdgeArm, "region");
+  param("RegionMaterialArm", f::kRegionMaterialArm, "region of arm 0 (arm j: + 2 j)");
+  param("RegionEdgeArm", f::kRegionEdgeArm, "region of arm 0 (arm j: + 2 j)");
+  param("MaxArms", f::kMaxArms, "parallel Maxwell arms a core can carry");
   param("NumRegions", f::kNumRegions, "regions");
   param("GlobalNumParticles", f::kGlobalNumParticles, "global register");
   param("GlobalEdgeRows", f::kGlobalEdgeRows, "global register");
@@ -94,7 +95,7 @@ int main() {
   param("EdgeEndBankShift", f::kEdgeEndBankShift, "edge word 0: end bank");
   param("EdgeBankBits", f::kEdgeBankBits, "edge word 0: end bank bits");
   param("EdgeValidBit", f::kEdgeValidBit, "edge word 0: valid (0: bubble)");
-  param("NumBaseRegions", f::kNumBaseRegions, "regions of a core without the Maxwell arm");
+  param("NumBaseRegions", f::kNumBaseRegions, "regions of a core without Maxwell arms");
   param("StatusWords", f::kStatusWords, "words of a status response");
   param("StatusClearBit", std::countr_zero(f::kStatusClear),
         "status header count: clear the sticky flags after reading");

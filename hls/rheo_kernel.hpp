@@ -14,10 +14,12 @@
 //     dd = beta * ldot - alpha * ds          (Voigt length change per step)
 //     T  = kt * ds + ct * ldot               (= k1 (d + dd - L) + c1 ddot, folded)
 //     F_k = T * u;  d <- clamp(d + dd, a_min l, a_max l)
-//   with the parallel Maxwell arm (template flag MaxwellArm, RTL parameter of the same
-//   name), per edge state m (the arm spring's extension, X format):
-//     dm = ldot - gamma * m                  (gamma = k2 dt / c3)
-//     T += k2t * m;  m <- m + dm             (k2t = k2 in force units per length unit)
+//   with Arms parallel Maxwell arms (template parameter Arms, RTL parameter MaxwellArms),
+//   per edge and arm j a state m_j (the arm spring's extension, X format):
+//     dm_j = ldot - gamma_j * m_j            (gamma_j = k_j dt / c_j)
+//     T += sum_j k2t_j * m_j;  m_j <- m_j + dm_j   (k2t_j: the arm's spring in force units
+//                                                    per length unit)
+//     (the arms' products need only m_j, so the RTL computes them early in the pipeline)
 //   MPM, per particle i, one per clock, after the edge pass has summed its edge forces
 //   (exact wide sums, saturated once when narrowed):
 //     f = sum of +F_k (i = s) and -F_k (i = e)
@@ -34,6 +36,7 @@
 #include <cstdint>
 
 #include "hls/fixed_format.hpp"
+#include "hls/frame_format.hpp"
 
 namespace rheo::hls {
 
@@ -193,34 +196,47 @@ inline RsqrtResult rsqrt_l2(i128 l2n) {
 
 // ---- TEM ------------------------------------------------------------------------------
 
+// Parallel Maxwell arms the kernel can carry (the frame format's arm regions).
+inline constexpr int kMaxArms = frame::kMaxArms;
+
 struct MaterialCoefs {
   Coef alpha, beta, kt, ct, a_min, a_max;
   std::uint32_t flags = 0;  // MaterialFlag
-  Coef gamma, k2t;          // Maxwell arm (read only by a MaxwellArm kernel)
+  // Maxwell arm j (read only by a kernel with more than j arms); an arm a material does
+  // not use has zero coefficients: no force, and its extension only follows the length.
+  Coef gamma[kMaxArms], k2t[kMaxArms];
 };
 
 struct TemIn {
   std::int64_t xs[3], xe[3], ps[3], pe[3];
   std::int64_t d, L;
-  std::int64_t m = 0;  // Maxwell-arm extension (X format)
+  std::int64_t m[kMaxArms] = {};  // Maxwell-arm extensions (X format)
 };
 
 struct TemOut {
   std::int64_t f[3];   // force on the start particle (F format); the end gets -f
   std::int64_t d;      // new Voigt length (X format)
-  std::int64_t m = 0;  // new Maxwell-arm extension (X format; 0 without the arm)
+  std::int64_t m[kMaxArms] = {};  // new Maxwell-arm extensions (X format; 0 beyond Arms)
 };
 
 // Every product has Fmt::kOperandBits-bit operands (B): r and dp are block-normalised
 // vectors, ldot, d - L, l, T and m normalised words, u a Q1.(B-2) operand.
-template <class Fmt, bool MaxwellArm = false>
+template <class Fmt, int Arms = 0>
 inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* status) {
 #pragma HLS PIPELINE II = 1
+  static_assert(Arms >= 0 && Arms <= kMaxArms);
   constexpr int W = Fmt::kWidth;
   constexpr int B = Fmt::kOperandBits;
   constexpr Rounding R = Fmt::kRounding;
   using S = CoefShifts<Fmt>;
   const std::uint32_t kFlag = kStatusTemSaturated;
+  // The arms' products (each saturated to a word) and their exact force sum.
+  std::int64_t m_decay[kMaxArms] = {};
+  i128 t_arms = 0;
+  for (int j = 0; j < Arms; ++j) {
+    m_decay[j] = mul_coef_operand<Fmt>(in.m[j], m.gamma[j], S::kGamma, status, kFlag);
+    t_arms += mul_coef_operand<Fmt>(in.m[j], m.k2t[j], S::kK2t, status, kFlag);
+  }
   std::int64_t r[3], dp[3];
   for (int i = 0; i < 3; ++i) {
     r[i] = saturate(i128(in.xe[i]) - in.xs[i], W, status, kFlag);
@@ -251,17 +267,12 @@ inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* s
   const std::int64_t t_spring = mul_coef_operand<Fmt>(ds, m.kt, S::kKt, status, kFlag);
   const std::int64_t t_damper = mul_coef_operand<Fmt>(ldot, m.ct, S::kCt, status, kFlag);
   TemOut out;
-  std::int64_t tension;
-  if constexpr (MaxwellArm) {
-    // The arm's two products sit beside the other coefficient products; its force joins
-    // the tension in one wide sum, so it saturates once.
-    const std::int64_t m_decay = mul_coef_operand<Fmt>(in.m, m.gamma, S::kGamma, status, kFlag);
-    const std::int64_t t_arm = mul_coef_operand<Fmt>(in.m, m.k2t, S::kK2t, status, kFlag);
-    tension = saturate(i128(t_spring) + t_damper + t_arm, W, status, kFlag);
-    const std::int64_t dm = saturate(i128(ldot) - m_decay, W, status, kFlag);
-    out.m = saturate(i128(in.m) + shift_round<R>(dm, Fmt::kFracP - Fmt::kFracX), W, status, kFlag);
-  } else {
-    tension = saturate(i128(t_spring) + t_damper, W, status, kFlag);
+  // The arms' force joins the tension in one wide sum, so it saturates once.
+  const std::int64_t tension = saturate(i128(t_spring) + t_damper + t_arms, W, status, kFlag);
+  for (int j = 0; j < Arms; ++j) {
+    const std::int64_t dm = saturate(i128(ldot) - m_decay[j], W, status, kFlag);
+    out.m[j] =
+        saturate(i128(in.m[j]) + shift_round<R>(dm, Fmt::kFracP - Fmt::kFracX), W, status, kFlag);
   }
   const std::int64_t lo = mul_coef_operand<Fmt>(l, m.a_min, S::kClamp, status, kFlag);
   const std::int64_t hi = mul_coef_operand<Fmt>(l, m.a_max, S::kClamp, status, kFlag);
@@ -380,7 +391,7 @@ struct EdgeEntry {
   std::uint32_t e_local = 0;
   std::uint32_t material = 0;
   std::int64_t L = 0, d = 0;
-  std::int64_t m = 0;  // Maxwell-arm extension (used by a MaxwellArm core only)
+  std::int64_t m[kMaxArms] = {};  // Maxwell-arm extensions (arms of the core only)
 };
 
 struct CoreMemory {
@@ -404,7 +415,7 @@ struct CoreMemory {
 // step (the MPM pass starts after the edge pass), and the force sums are exact (wide,
 // saturated only when narrowed for the MPM), so neither the slot order nor the lane
 // assignment changes any bit.
-template <class Fmt, bool MaxwellArm = false>
+template <class Fmt, int Arms = 0>
 inline std::int64_t core_step(CoreMemory& mem) {
   constexpr int W = Fmt::kWidth;
   const std::uint32_t lanes = mem.lanes;
@@ -437,14 +448,14 @@ edge_pass:
       }
       in.d = edge.d;
       in.L = edge.L;
-      in.m = edge.m;
-      const TemOut out = tem_edge<Fmt, MaxwellArm>(in, mem.materials[edge.material], &mem.status);
+      for (int j = 0; j < Arms; ++j) in.m[j] = edge.m[j];
+      const TemOut out = tem_edge<Fmt, Arms>(in, mem.materials[edge.material], &mem.status);
       for (int i = 0; i < 3; ++i) {
         mem.force_start[si][i] += out.f[i];
         mem.force_end[ei][i] -= out.f[i];
       }
       edge.d = out.d;
-      if constexpr (MaxwellArm) edge.m = out.m;
+      for (int j = 0; j < Arms; ++j) edge.m[j] = out.m[j];
     }
   }
   i128 plate_acc = 0;

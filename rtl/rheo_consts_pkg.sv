@@ -51,9 +51,10 @@ package rheo_consts_pkg;
   localparam int RegionEdge = 3;  // region
   localparam int RegionMaterial = 4;  // region
   localparam int RegionEdgeLength = 5;  // region
-  localparam int RegionMaterialArm = 6;  // region
-  localparam int RegionEdgeArm = 7;  // region
-  localparam int NumRegions = 8;  // regions
+  localparam int RegionMaterialArm = 6;  // region of arm 0 (arm j: + 2 j)
+  localparam int RegionEdgeArm = 7;  // region of arm 0 (arm j: + 2 j)
+  localparam int MaxArms = 4;  // parallel Maxwell arms a core can carry
+  localparam int NumRegions = 14;  // regions
   localparam int GlobalNumParticles = 0;  // global register
   localparam int GlobalEdgeRows = 1;  // global register
   localparam int GlobalGravityX = 2;  // global register
@@ -68,7 +69,7 @@ package rheo_consts_pkg;
   localparam int EdgeEndBankShift = 24;  // edge word 0: end bank
   localparam int EdgeBankBits = 4;  // edge word 0: end bank bits
   localparam int EdgeValidBit = 31;  // edge word 0: valid (0: bubble)
-  localparam int NumBaseRegions = 6;  // regions of a core without the Maxwell arm
+  localparam int NumBaseRegions = 6;  // regions of a core without Maxwell arms
   localparam int StatusWords = 4;  // words of a status response
   localparam int StatusClearBit = 0;  // status header count: clear the sticky flags after reading
   localparam int HeaderOpcodeShift = 28;  // header word: opcode
@@ -96,6 +97,12 @@ package rheo_consts_pkg;
       HeaderRegionBits'(5): words_per_entry = EntryFieldW'(1);
       HeaderRegionBits'(6): words_per_entry = EntryFieldW'(2);
       HeaderRegionBits'(7): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(8): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(9): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(10): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(11): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(12): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(13): words_per_entry = EntryFieldW'(1);
       default: words_per_entry = '0;
     endcase
   endfunction

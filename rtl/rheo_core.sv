@@ -13,7 +13,7 @@
 // One step (after the plate-height word arrives):
 //   edge pass: row r = 0 .. R-1; lane j reads slot (r, j), its start particle from its own
 //              bank (port A) and its end particle through an L x L crossbar (port B of
-//              the end's bank), runs its TEM, writes d (and the arm's m) back and adds +F
+//              the end's bank), runs its TEM, writes d (and the arms' m) back and adds +F
 //              to the start particle's sum and -F to the end particle's sum (one
 //              accumulator memory per bank for each side, read-modify-write with
 //              forwarding, rheo_force_acc). A row with two ends in one bank raises
@@ -45,10 +45,11 @@
 //   rheo_core_readback.sv  READ command's word from the memories
 //   rheo_core_plate_acc.sv plate force of a step
 //   rheo_tem.sv, rheo_mpm.sv the lanes' edge and mass-point modules
-// MaxwellArm = 1 builds the variant with the parallel Maxwell arm in every TEM: per edge
-// slot the arm's extension m (region EdgeArm, read and written like d) and per material
-// gamma and k2t (region MaterialArm). Same cycles per step. MaxwellArm = 0 is the baseline
-// core (the arm regions are refused as bad commands).
+// MaxwellArms = K (1..rheo_consts_pkg::MaxArms) builds the variant with K parallel Maxwell
+// arms in every TEM: per edge slot and arm j the arm's extension m_j (region EdgeArm + 2 j,
+// read and written like d) and per material gamma_j and k2t_j (region MaterialArm + 2 j).
+// Same cycles per step. MaxwellArms = 0 is the baseline core; the regions of arms the
+// core does not have are refused as bad commands.
 module rheo_core #(
   parameter int Lanes = 1,              // parallel TEM/MPM lanes and banks (1..4)
   parameter int MaxParticles = 4096,    // particle memory depth (all banks)
@@ -56,7 +57,7 @@ module rheo_core #(
   parameter int MaxMaterials = 16,      // material table depth
   parameter int W = 32,                 // stream and state word width
   parameter int CoefW = 24,             // packed coefficient width
-  parameter int MaxwellArm = 0          // 1: TEMs with the parallel Maxwell arm
+  parameter int MaxwellArms = 0         // parallel Maxwell arms per TEM (0..MaxArms)
 ) (
   input  logic         clk_i,
   input  logic         rst_ni,
@@ -81,7 +82,8 @@ module rheo_core #(
   localparam int SumW = AccW + 1;  // start sum + end sum
   localparam int PlateAccW = rheo_consts_pkg::PlateAccW;
   localparam int NumCoef = rheo_consts_pkg::MaterialCoefs +
-                           ((MaxwellArm != 0) ? rheo_consts_pkg::MaterialArmCoefs : 0);
+                           rheo_consts_pkg::MaterialArmCoefs * MaxwellArms;
+  localparam int ArmW = ((MaxwellArms > 0) ? MaxwellArms : 1) * W;  // a slot's m words
   localparam int XpWords = rheo_consts_pkg::ParticleStateWords;  // {p, x}
   localparam int XpW = XpWords * W;
   localparam int MFlagsW = rheo_consts_pkg::MatFlagsW;
@@ -124,7 +126,7 @@ module rheo_core #(
 
   rheo_core_ctrl #(
     .Lanes(Lanes), .MaxParticles(MaxParticles), .PDepth(PDepth), .EDepth(EDepth), .W(W),
-    .MaxwellArm(MaxwellArm)
+    .MaxwellArms(MaxwellArms)
   ) u_ctrl (
     .clk_i(clk_i), .rst_ni(rst_ni),
     .s_axis_tdata(s_axis_tdata), .s_axis_tvalid(s_axis_tvalid), .s_axis_tready(s_axis_tready),
@@ -150,11 +152,13 @@ module rheo_core #(
   logic [PAW-1:0] s_local1 [Lanes];
   logic [Lanes*PAW-1:0] e_local1;
   logic [Lanes*EBW-1:0] e_bank1;
-  logic [W-1:0] len1 [Lanes], d1 [Lanes], m1 [Lanes];
+  logic [W-1:0] len1 [Lanes], d1 [Lanes];
+  logic [ArmW-1:0] m1 [Lanes];
   logic [Lanes*MIdxW-1:0] mat1;
   logic ev2_q [Lanes];
   logic [TemIdxW-1:0] idx2_q [Lanes];
-  logic [W-1:0] len2_q [Lanes], d2_q [Lanes], m2_q [Lanes];
+  logic [W-1:0] len2_q [Lanes], d2_q [Lanes];
+  logic [ArmW-1:0] m2_q [Lanes];
   logic [Lanes*BW-1:0] eb2_q;
   logic [Lanes*NumCoef*CoefW-1:0] tem_coef;
   logic [Lanes*MFlagsW-1:0] mflags2;
@@ -165,7 +169,8 @@ module rheo_core #(
   logic tem_sat [Lanes], tem_deg [Lanes];
   logic [TemIdxW-1:0] tem_idx [Lanes];
   logic [Lanes*3*W-1:0] tem_f;
-  logic [W-1:0] tem_d [Lanes], tem_m [Lanes];
+  logic [W-1:0] tem_d [Lanes];
+  logic [ArmW-1:0] tem_m [Lanes];
   logic [EAW-1:0] tem_row [Lanes];
   logic [Lanes*PAW-1:0] tem_s_local, tem_e_local;
   logic [Lanes*BW-1:0] tem_e_bank;
@@ -202,7 +207,8 @@ module rheo_core #(
   logic [3*W-1:0] mpm_x [Lanes], mpm_p [Lanes];
   logic [Lanes*W-1:0] mpm_plate_f;
   // Edge slot memories of each lane (read port data).
-  logic [Lanes*W-1:0] d_a_data, m_a_data;
+  logic [Lanes*W-1:0] d_a_data;
+  logic [Lanes*ArmW-1:0] m_a_data;
 
   // The controller counts entries and rows in IdxCountW bits; the memories take the low
   // address bits (particle_ok / edge_ok and the global registers' limits cover the rest).
@@ -216,16 +222,16 @@ module rheo_core #(
   for (genvar j = 0; j < Lanes; j++) begin : g_lane
     // ---- edge slots ----
     rheo_core_mem_edge #(
-      .W(W), .EDepth(EDepth), .PAW(PAW), .MaxMaterials(MaxMaterials), .MaxwellArm(MaxwellArm)
+      .W(W), .EDepth(EDepth), .PAW(PAW), .MaxMaterials(MaxMaterials), .MaxwellArms(MaxwellArms)
     ) u_edges (
       .clk_i(clk_i), .tem_pass_i(tem_pass), .row_i(EAW'(row)), .host_addr_i(EAW'(local_addr)),
       .host_we_i(host_we && bank == BW'(j) && edge_ok), .region_i(region), .field_i(field),
       .wdata_i(s_axis_tdata),
       .wb_valid_i(tem_valid[j]), .wb_row_i(tem_row[j]), .wb_d_i(tem_d[j]), .wb_m_i(tem_m[j]),
       .rec_o(rec1[j]), .len_o(len1[j]), .d_o(d_a_data[j*W +: W]),
-      .mat_o(mat1[j*MIdxW +: MIdxW]), .m_o(m_a_data[j*W +: W]));
+      .mat_o(mat1[j*MIdxW +: MIdxW]), .m_o(m_a_data[j*ArmW +: ArmW]));
     assign d1[j] = d_a_data[j*W +: W];
-    assign m1[j] = m_a_data[j*W +: W];
+    assign m1[j] = m_a_data[j*ArmW +: ArmW];
 
     // ---- edge pass stage 1: the slot's particles ----
     assign valid1[j] = ev1_q && rec1[j][RecW-1];
@@ -234,7 +240,7 @@ module rheo_core #(
     assign s_local1[j] = rec1[j][PAW-1:0];
 
     // ---- edge pass stage 2: TEM (start from the own bank, end via the crossbar) ----
-    rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(TemIdxW), .MaxwellArm(MaxwellArm)) u_tem (
+    rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(TemIdxW), .MaxwellArms(MaxwellArms)) u_tem (
       .clk_i       (clk_i),
       .rst_ni      (rst_ni),
       .valid_i     (ev2_q[j]),
@@ -328,7 +334,7 @@ module rheo_core #(
 
   // ---------------------------------------------------------------- shared datapath
   rheo_core_mem_mat #(
-    .Lanes(Lanes), .MaxMaterials(MaxMaterials), .CoefW(CoefW), .MaxwellArm(MaxwellArm)
+    .Lanes(Lanes), .MaxMaterials(MaxMaterials), .CoefW(CoefW), .MaxwellArms(MaxwellArms)
   ) u_mat (
     .clk_i(clk_i), .host_we_i(host_we), .region_i(region), .index_i(index), .field_i(field),
     .wdata_i(s_axis_tdata[CoefW-1:0]), .mat_i(mat1), .coef_o(tem_coef), .flags_o(mflags2));
@@ -342,7 +348,7 @@ module rheo_core #(
     .acc_s_valid_o(acc_s_valid), .acc_s_addr_o(acc_s_addr), .acc_s_val_o(acc_s_val),
     .acc_e_valid_o(acc_e_valid), .acc_e_addr_o(acc_e_addr), .acc_e_val_o(acc_e_val));
 
-  rheo_core_readback #(.Lanes(Lanes), .W(W), .MaxwellArm(MaxwellArm)) u_readback (
+  rheo_core_readback #(.Lanes(Lanes), .W(W), .MaxwellArms(MaxwellArms)) u_readback (
     .clk_i(clk_i), .region_i(region), .bank_i(bank), .field_i(field),
     .particle_ok_i(particle_ok), .edge_ok_i(edge_ok),
     .xp_a_i(xp_a_data), .d_i(d_a_data), .m_i(m_a_data), .word_o(read_word));

@@ -17,7 +17,7 @@ module rheo_core_ctrl #(
   parameter int PDepth = 4096,          // particles per bank
   parameter int EDepth = 65536,         // edge slots per lane
   parameter int W = 32,
-  parameter int MaxwellArm = 0,
+  parameter int MaxwellArms = 0,        // parallel Maxwell arms: a region pair each
   localparam int BW = (Lanes > 1) ? $clog2(Lanes) : 1,
   localparam int IdxCountW = rheo_consts_pkg::IdxCountW,
   localparam int RegionW = rheo_consts_pkg::HeaderRegionBits,
@@ -71,8 +71,7 @@ module rheo_core_ctrl #(
   localparam int TemDrain = rheo_consts_pkg::TemDrain;
   localparam int MpmDrain = rheo_consts_pkg::MpmDrain;
   localparam int OpW = rheo_consts_pkg::HeaderOpcodeBits;
-  localparam int CoreRegions =
-      (MaxwellArm != 0) ? rheo_consts_pkg::NumRegions : rheo_consts_pkg::NumBaseRegions;
+  localparam int CoreRegions = rheo_consts_pkg::NumBaseRegions + 2 * MaxwellArms;
   localparam int MaxDrain = TemDrain > MpmDrain ? TemDrain : MpmDrain;
   // Wide enough for the longer of the two drains (they follow the module latencies).
   localparam int DrainW = $clog2(MaxDrain + 1);

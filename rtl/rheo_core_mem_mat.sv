@@ -1,16 +1,16 @@
 // Material table of rheo_core: per material the packed TEM coefficients and flags (and,
-// with MaxwellArm, the arm's gamma and k2t). Every lane reads it in the same clock, so it
+// with MaxwellArms = K, each arm's gamma_j and k2t_j). Every lane reads it in the same clock, so it
 // is a small LUT RAM with one registered read per lane (the edge pass's stage 2), written
 // by the host only while idle.
 module rheo_core_mem_mat #(
   parameter int Lanes = 1,
   parameter int MaxMaterials = 16,
   parameter int CoefW = 24,
-  parameter int MaxwellArm = 0,
+  parameter int MaxwellArms = 0,
   localparam int MIdxW = $clog2(MaxMaterials),
   localparam int NumBase = rheo_consts_pkg::MaterialCoefs,
   localparam int NumArm = rheo_consts_pkg::MaterialArmCoefs,
-  localparam int NumCoef = (MaxwellArm != 0) ? NumBase + NumArm : NumBase,
+  localparam int NumCoef = NumBase + NumArm * MaxwellArms,
   localparam int MFlagsW = rheo_consts_pkg::MatFlagsW,
   localparam int IdxCountW = rheo_consts_pkg::IdxCountW,
   localparam int RegionW = rheo_consts_pkg::HeaderRegionBits,
@@ -23,7 +23,7 @@ module rheo_core_mem_mat #(
   input  logic [FieldW-1:0]             field_i,
   input  logic [CoefW-1:0]              wdata_i,  // low bits of the host word
   input  logic [Lanes*MIdxW-1:0]        mat_i,    // lane j's material index
-  output logic [Lanes*NumCoef*CoefW-1:0] coef_o,  // lane j: {arm coefficients, base}
+  output logic [Lanes*NumCoef*CoefW-1:0] coef_o,  // lane j: {arm K-1 .. arm 0, base}
   output logic [Lanes*MFlagsW-1:0]      flags_o
 );
   logic [CoefW-1:0] mat_coef [MaxMaterials][NumBase];
@@ -48,20 +48,25 @@ module rheo_core_mem_mat #(
     end
   end
 
-  if (MaxwellArm != 0) begin : g_arm
-    logic [CoefW-1:0] mat_arm [MaxMaterials][NumArm];
-    logic [Lanes*NumArm*CoefW-1:0] arm_q;
+  if (MaxwellArms > 0) begin : g_arm
+    localparam int NumArms = NumArm * MaxwellArms;  // coefficients of all arms
+    // Arm k's coefficients at [k * NumArm + field]; region MaterialArm + 2 k writes them.
+    logic [CoefW-1:0] mat_arm [MaxMaterials][NumArms];
+    logic [Lanes*NumArms*CoefW-1:0] arm_q;
     always_ff @(posedge clk_i) begin
-      if (host_we_i && region_i == RegionW'(rheo_consts_pkg::RegionMaterialArm) && entry_ok)
-        mat_arm[MIdxW'(index_i)][field_i[0]] <= wdata_i;
+      for (int k = 0; k < MaxwellArms; k++) begin
+        if (host_we_i && region_i == RegionW'(rheo_consts_pkg::RegionMaterialArm + 2 * k) &&
+            entry_ok)
+          mat_arm[MIdxW'(index_i)][k * NumArm + int'(field_i[0])] <= wdata_i;
+      end
       for (int j = 0; j < Lanes; j++) begin
-        for (int c = 0; c < NumArm; c++)
-          arm_q[(j*NumArm+c)*CoefW +: CoefW] <= mat_arm[mat_i[j*MIdxW +: MIdxW]][c];
+        for (int c = 0; c < NumArms; c++)
+          arm_q[(j*NumArms+c)*CoefW +: CoefW] <= mat_arm[mat_i[j*MIdxW +: MIdxW]][c];
       end
     end
     for (genvar j = 0; j < Lanes; j++) begin : g_lane
       assign coef_o[j*NumCoef*CoefW +: NumCoef*CoefW] =
-          {arm_q[j*NumArm*CoefW +: NumArm*CoefW], coef_q[j*NumBase*CoefW +: NumBase*CoefW]};
+          {arm_q[j*NumArms*CoefW +: NumArms*CoefW], coef_q[j*NumBase*CoefW +: NumBase*CoefW]};
     end
   end else begin : g_no_arm
     for (genvar j = 0; j < Lanes; j++) begin : g_lane

@@ -14,7 +14,7 @@
 // index t of each value (t = 0: input register):
 //    1 r, dp, ds          4 r^, dp^ (rheo_normalize)   5 r^ squared   7 l2n = r^.r^
 //   18 y (rheo_rsqrt)    19 m y, r^ y                 21 l, u         22 u dp^
-//   24 u.dp^             26 ldot                      29 ldot^, ds^, l^ (, m^)
+//   24 u.dp^             26 ldot                      29 ldot^, ds^, l^
 //   30 coefficient products                           32 scaled       33 dd, T (, dm)
 //   34 dd >> 4 (, dm)    35 d + dd (, m + dm)         36 clamp, T^    37 T^ u
 //   39 f (output registers).
@@ -24,18 +24,25 @@
 // Long delay lines (coefficients, d, operands waiting for y) are distributed RAM.
 // Multipliers (all B x B): 3 (r.r) + 3 (rsqrt) + 1 (l) + 3 (u) + 3 (ldot)
 // + 6 (coefficients) + 3 (T u) = 22.
-// MaxwellArm = 1 adds the parallel Maxwell arm (rheo::hls::tem_edge<Fmt, true>): the
-// edge carries the arm's extension m (m_i -> m_o) and two more coefficients (gamma, k2t):
-//   t 30: m^ gamma, k2t m^;  t 33: dm = ldot - m gamma, T = kt ds + ct ldot + k2t m;
-//   t 35: m' = m + dm.  Same latency; +2 multipliers (24). MaxwellArm = 0 leaves m_i
-// unused and m_o = 0.
+// MaxwellArms = K (0..rheo_consts_pkg::MaxArms) adds K parallel Maxwell arms
+// (rheo::hls::tem_edge<Fmt, K>): the edge carries each arm's extension m_j (m_i -> m_o,
+// arm j at [j*W +: W]) and two more coefficients per arm (gamma_j, k2t_j). The arms'
+// products need only m_j, so they run early, beside the length computation:
+//    3 m_j^                4 m_j^ gamma_j, k2t_j m_j^    6 scaled
+//    7 pair sums of k2t_j m_j                          8 their exact sum (W + 2 bits),
+//   which waits for stage 33: T = kt ds + ct ldot + sum (one saturation);
+//   33 dm_j = ldot - m_j gamma_j    35 m_j' = m_j + dm_j.
+// Same latency; +2 multipliers per arm (24 with one arm, 30 with four). MaxwellArms = 0
+// leaves m_i unused and m_o = 0.
 // Mirrors rheo::hls::tem_edge.
 module rheo_tem #(
   parameter int W = 32,      // state word width (rheo_consts_pkg::Width)
   parameter int CoefW = 24,  // packed coefficient {shift, mantissa}
   parameter int IdxW = 16,   // edge index carried alongside
-  parameter int MaxwellArm = 0,  // 1: with the parallel Maxwell arm
-  localparam int NumCoef = (MaxwellArm != 0) ? 8 : 6
+  parameter int MaxwellArms = 0,  // parallel Maxwell arms, 0..rheo_consts_pkg::MaxArms
+  localparam int NumBaseCoef = rheo_consts_pkg::MaterialCoefs,
+  localparam int NumCoef = NumBaseCoef + rheo_consts_pkg::MaterialArmCoefs * MaxwellArms,
+  localparam int ArmPorts = (MaxwellArms > 0) ? MaxwellArms : 1  // port words of m_i / m_o
 ) (
   input  logic              clk_i,
   input  logic              rst_ni,
@@ -47,14 +54,15 @@ module rheo_tem #(
   input  logic [3*W-1:0]    pe_i,       // end displacement per step
   input  logic [W-1:0]      d_i,        // Voigt length
   input  logic [W-1:0]      len_i,      // Voigt natural length L
-  input  logic [W-1:0]      m_i,        // Maxwell-arm extension (MaxwellArm = 1)
-  input  logic [NumCoef*CoefW-1:0] coef_i,  // {[k2t, gamma,] a_max, a_min, ct, kt, beta, alpha}
+  input  logic [ArmPorts*W-1:0] m_i,    // Maxwell-arm extensions, arm j at [j*W +: W]
+  // {arms' {k2t_j, gamma_j} (arm K-1 first), a_max, a_min, ct, kt, beta, alpha}
+  input  logic [NumCoef*CoefW-1:0] coef_i,
   input  logic [1:0]        mat_flags_i,// {clamp high enable, clamp low enable}
   output logic              valid_o,
   output logic [IdxW-1:0]   idx_o,
   output logic [3*W-1:0]    f_o,        // force on the start particle, {z, y, x}
   output logic [W-1:0]      d_o,        // new Voigt length
-  output logic [W-1:0]      m_o,        // new Maxwell-arm extension (0 without the arm)
+  output logic [ArmPorts*W-1:0] m_o,    // new Maxwell-arm extensions (0 without arms)
   output logic              sat_o,      // a result of this edge saturated
   output logic              degenerate_o// this edge has zero length
 );
@@ -68,7 +76,8 @@ module rheo_tem #(
   localparam int Last = rheo_consts_pkg::TemLatency - 1;  // index of the output stage
   localparam int EW = 6;  // normalisation exponents (< W - B + 2)
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
-  localparam int CGamma = 6, CK2t = 7;
+  // Arm j's coefficients: CGamma + 2 j, CK2t + 2 j.
+  localparam int CGamma = NumBaseCoef, CK2t = NumBaseCoef + 1;
   // Largest left shift of a coefficient product: the host keeps shift + extra >= 0, the
   // operand's exponent is at most W - (B - 1).
   localparam int CoefMaxLeft = W - (B - 1);
@@ -78,6 +87,12 @@ module rheo_tem #(
   end
   if (Last != 39) begin : g_latency_check
     $error("rheo_tem: the stage schedule below is for TemLatency = 40");
+  end
+  if (MaxwellArms < 0 || MaxwellArms > rheo_consts_pkg::MaxArms) begin : g_arms_check
+    $error("rheo_tem: MaxwellArms must be 0..rheo_consts_pkg::MaxArms");
+  end
+  if (NumBaseCoef != 6) begin : g_coef_check
+    $error("rheo_tem: the base coefficients below are alpha, beta, kt, ct, a_min, a_max");
   end
 
   // Saturation of a (W+1)-bit sum to W bits: it clips iff the top two bits differ (a range
@@ -89,9 +104,9 @@ module rheo_tem #(
     if (clip(v)) sat = {v[W], {(W-1){~v[W]}}};
     else sat = v[W-1:0];
   endfunction
-  // Three-term sum (the arm's tension) in W + 2 bits: fits iff the top three bits agree.
-  function automatic logic clip2(input logic [2:0] top);  // bits W+1..W-1
-    clip2 = !((&top) || !(|top));
+  // The tension's three-term sum in W + 3 bits: fits iff the top four bits agree.
+  function automatic logic clip3(input logic [3:0] top);  // bits W+2..W-1
+    clip3 = !((&top) || !(|top));
   endfunction
 
   // ---- control pipeline: valid (reset), index, material flags, saturation ----
@@ -111,7 +126,8 @@ module rheo_tem #(
   end
 
   // ---- stage 0: input registers ----
-  logic signed [W-1:0] xs_q [3], xe_q [3], ps_q [3], pe_q [3], d0_q, len_q, m0_q;
+  logic signed [W-1:0] xs_q [3], xe_q [3], ps_q [3], pe_q [3], d0_q, len_q;
+  logic [ArmPorts*W-1:0] m0_q;
   logic [CoefW-1:0] coef0_q [NumCoef];
   always_ff @(posedge clk_i) begin
     idx0_q <= idx_i;
@@ -245,12 +261,12 @@ module rheo_tem #(
   rheo_round_shift #(.InW(PW+2), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_ldot (
     .clk_i(clk_i), .v_i(lacc24_q), .sb_i(lds24_q), .out_o(ldot26), .clip_o(clip_ldot26));
 
-  // ---- stages 27-29: the coefficient operands ldot^, ds^, l^ (, m^) ----
-  logic signed [W-1:0] ds26, l26, m26;
+  // ---- stages 27-29: the coefficient operands ldot^, ds^, l^ ----
+  logic signed [W-1:0] ds26, l26;
   rheo_delay #(.W(W), .N(25)) u_ds_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ds1_q), .q_o(ds26));
   rheo_delay #(.W(W), .N(5)) u_l_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(l21), .q_o(l26));
-  localparam int NumOp = (MaxwellArm != 0) ? 4 : 3;
-  localparam int OpLdot = 0, OpDs = 1, OpL = 2, OpM = 3;
+  localparam int NumOp = 3;
+  localparam int OpLdot = 0, OpDs = 1, OpL = 2;
   logic [W-1:0] op26 [NumOp];
   logic [B-1:0] opn29 [NumOp];
   logic [EW-1:0] ope29 [NumOp];
@@ -258,7 +274,6 @@ module rheo_tem #(
     op26[OpLdot] = ldot26;
     op26[OpDs] = ds26;
     op26[OpL] = l26;
-    if (MaxwellArm != 0) op26[NumOp-1] = m26;
   end
   for (genvar o = 0; o < NumOp; o++) begin : g_op
     rheo_normalize #(.N(1), .InW(W), .B(B), .ShiftW(EW)) u_norm (
@@ -266,8 +281,8 @@ module rheo_tem #(
   end
 
   // ---- stage 30: coefficient products; stages 31-32: shifted back ----
-  logic [CoefW-1:0] coef29 [NumCoef];
-  for (genvar c = 0; c < NumCoef; c++) begin : g_coef_d
+  logic [CoefW-1:0] coef29 [NumBaseCoef];
+  for (genvar c = 0; c < NumBaseCoef; c++) begin : g_coef_d
     rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
   end
   // operand of each coefficient and the extra shift of its format change
@@ -275,8 +290,7 @@ module rheo_tem #(
     case (c)
       CBeta, CCt: coef_operand = OpLdot;
       CAlpha, CKt: coef_operand = OpDs;
-      CAmin, CAmax: coef_operand = OpL;
-      default: coef_operand = OpM;
+      default: coef_operand = OpL;
     endcase
   endfunction
   function automatic int coef_extra(input int c);
@@ -285,16 +299,14 @@ module rheo_tem #(
       CBeta: coef_extra = rheo_consts_pkg::ShiftBeta;
       CKt: coef_extra = rheo_consts_pkg::ShiftKt;
       CCt: coef_extra = rheo_consts_pkg::ShiftCt;
-      CGamma: coef_extra = rheo_consts_pkg::ShiftGamma;
-      CK2t: coef_extra = rheo_consts_pkg::ShiftK2t;
       default: coef_extra = rheo_consts_pkg::ShiftClamp;
     endcase
   endfunction
-  logic signed [PW-1:0] cprod30_q [NumCoef];
-  logic [6:0] cs30_q [NumCoef];
-  logic signed [W-1:0] cres32 [NumCoef];
-  logic cclip32 [NumCoef];
-  for (genvar c = 0; c < NumCoef; c++) begin : g_coef
+  logic signed [PW-1:0] cprod30_q [NumBaseCoef];
+  logic [6:0] cs30_q [NumBaseCoef];
+  logic signed [W-1:0] cres32 [NumBaseCoef];
+  logic cclip32 [NumBaseCoef];
+  for (genvar c = 0; c < NumBaseCoef; c++) begin : g_coef
     always_ff @(posedge clk_i) begin
       cprod30_q[c] <= $signed(opn29[coef_operand(c)]) * $signed(coef29[c][CoefMantBits-1:0]);
       // shift + extra - e, biased by CoefMaxLeft (>= 0: the host keeps shift + extra >= 0)
@@ -306,27 +318,28 @@ module rheo_tem #(
       .clip_o(cclip32[c]));
   end
 
-  // ---- stage 33: dd = beta ldot - alpha ds, T = kt ds + ct ldot (+ k2t m) ----
+  // ---- stage 33: dd = beta ldot - alpha ds, T = kt ds + ct ldot + the arms' force ----
+  logic signed [W+1:0] tarm32;  // exact sum of the arms' k2t_j m_j (0 without arms)
   logic signed [W-1:0] dd33_q, t33_q;
   logic clip33_q;
-  logic signed [W+1:0] t_w;
+  logic signed [W+2:0] t_w;
   logic signed [W:0] dd_w;
-  logic [W+1:0] csa_a, csa_b, csa_c;
+  logic [W+2:0] csa_a, csa_b, csa_c;
   always_comb begin
     dd_w = (W+1)'(cres32[CBeta]) - (W+1)'(cres32[CAlpha]);
-    csa_a = (W+2)'(cres32[CKt]);
-    csa_b = (W+2)'(cres32[CCt]);
-    csa_c = (MaxwellArm != 0) ? (W+2)'(cres32[NumCoef-1]) : '0;
+    csa_a = (W+3)'(cres32[CKt]);
+    csa_b = (W+3)'(cres32[CCt]);
+    csa_c = (W+3)'(tarm32);
     // three terms through one carry chain: a carry-save step (one LUT level) first
     t_w = $signed(csa_a ^ csa_b ^ csa_c) +
-          $signed({(csa_a[W:0] & csa_b[W:0]) | (csa_a[W:0] & csa_c[W:0]) |
-                   (csa_b[W:0] & csa_c[W:0]), 1'b0});
+          $signed({(csa_a[W+1:0] & csa_b[W+1:0]) | (csa_a[W+1:0] & csa_c[W+1:0]) |
+                   (csa_b[W+1:0] & csa_c[W+1:0]), 1'b0});
   end
   always_ff @(posedge clk_i) begin
     dd33_q <= sat(dd_w);
-    if (clip2(t_w[W+1:W-1])) t33_q <= {t_w[W+1], {(W-1){~t_w[W+1]}}};
+    if (clip3(t_w[W+2:W-1])) t33_q <= {t_w[W+2], {(W-1){~t_w[W+2]}}};
     else t33_q <= t_w[W-1:0];
-    clip33_q <= clip(dd_w) | clip2(t_w[W+1:W-1]);
+    clip33_q <= clip(dd_w) | clip3(t_w[W+2:W-1]);
   end
 
   // ---- stages 34-36: T^ (operand of f) ----
@@ -373,33 +386,92 @@ module rheo_tem #(
   logic signed [W-1:0] d39;
   rheo_delay #(.W(W), .N(3)) u_dout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(dclamp36_q), .q_o(d39));
 
-  // ---- parallel Maxwell arm: dm = ldot - m gamma, m' = m + round(dm 2^-(FracP-FracX)) ----
-  logic clip_arm_at33, clip_arm_at35;  // the arm's clip flags seen in stages 33 and 35
-  if (MaxwellArm != 0) begin : g_arm
-    logic signed [W-1:0] ldot32, m34, dm33_q, dmr34_q, mnew35_q;
-    logic signed [W:0] dm_w, mnew_w;
-    logic clip_dm33_q, clip_m35_q;
-    rheo_delay #(.W(W), .N(26)) u_m26_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m0_q), .q_o(m26));
-    rheo_delay #(.W(W), .N(8)) u_m34_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m26), .q_o(m34));
+  // ---- parallel Maxwell arms ----
+  //   3 m_j^; 4 m_j^ gamma_j, k2t_j m_j^; 6 scaled; 7-8 the exact sum of k2t_j m_j;
+  //   33 dm_j = ldot - m_j gamma_j; 34 dm_j >> (FracP - FracX); 35 m_j' = m_j + that
+  logic clip_arm_at6, clip_arm_at33, clip_arm_at35;  // the arms' clip flags per stage
+  if (MaxwellArms > 0) begin : g_arms
+    localparam int K = MaxwellArms;
+    localparam int Pairs = (K + 1) / 2;
+    logic signed [W-1:0] tk6 [K];          // k2t_j m_j, scaled (stage 6)
+    logic signed [W:0] tpair7_q [Pairs];   // sums of two arms
+    logic signed [W+1:0] tarm8_q;          // all arms
+    logic [K-1:0] clip6, clip_dm33, clip_m35;
+    logic signed [W-1:0] ldot32;
     rheo_delay #(.W(W), .N(6)) u_ldot_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ldot26), .q_o(ldot32));
-    always_comb begin
-      dm_w = (W+1)'(ldot32) - (W+1)'(cres32[CGamma]);
-      mnew_w = (W+1)'(m34) + (W+1)'(dmr34_q);
+    for (genvar j = 0; j < K; j++) begin : g_arm
+      localparam int CG = CGamma + 2 * j, CK = CK2t + 2 * j;
+      // m_j^ (stages 1-3) and the arm's two coefficients, which wait for it
+      logic [B-1:0] mn3;
+      logic [EW-1:0] me3;
+      logic [CoefW-1:0] cg3, ck3;
+      rheo_normalize #(.N(1), .InW(W), .B(B), .ShiftW(EW)) u_norm_m (
+        .clk_i(clk_i), .v_i(m0_q[j*W +: W]), .mant_o(mn3), .shift_o(me3));
+      rheo_delay #(.W(CoefW), .N(3)) u_cg_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[CG]), .q_o(cg3));
+      rheo_delay #(.W(CoefW), .N(3)) u_ck_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[CK]), .q_o(ck3));
+      // stage 4: the products; stages 5-6: shifted back (as the coefficient products above)
+      logic signed [PW-1:0] gprod4_q, kprod4_q;
+      logic [6:0] gs4_q, ks4_q;
+      logic signed [W-1:0] mg6;
+      logic clip_g6, clip_k6;
+      always_ff @(posedge clk_i) begin
+        gprod4_q <= $signed(mn3) * $signed(cg3[CoefMantBits-1:0]);
+        kprod4_q <= $signed(mn3) * $signed(ck3[CoefMantBits-1:0]);
+        gs4_q <= 7'(cg3[CoefW-1:CoefMantBits]) + 7'(CoefMaxLeft - CoefShiftBias) +
+                 7'(rheo_consts_pkg::ShiftGamma) - 7'(me3);
+        ks4_q <= 7'(ck3[CoefW-1:CoefMantBits]) + 7'(CoefMaxLeft - CoefShiftBias) +
+                 7'(rheo_consts_pkg::ShiftK2t) - 7'(me3);
+      end
+      rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(CoefMaxLeft)) u_scale_g (
+        .clk_i(clk_i), .v_i(gprod4_q), .sb_i(gs4_q), .out_o(mg6), .clip_o(clip_g6));
+      rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(CoefMaxLeft)) u_scale_k (
+        .clk_i(clk_i), .v_i(kprod4_q), .sb_i(ks4_q), .out_o(tk6[j]), .clip_o(clip_k6));
+      assign clip6[j] = clip_g6 | clip_k6;
+      // stage 33: dm_j = ldot - m_j gamma_j; 34: rounded to the X format; 35: m_j + dm_j
+      logic signed [W-1:0] mg32, m34, dm33_q, dmr34_q, mnew35_q;
+      logic signed [W:0] dm_w, mnew_w;
+      logic clip_dm33_q, clip_m35_q;
+      assign clip_dm33[j] = clip_dm33_q;
+      assign clip_m35[j] = clip_m35_q;
+      rheo_delay #(.W(W), .N(26)) u_mg_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(mg6), .q_o(mg32));
+      logic signed [W-1:0] m17;  // two delay lines: one holds at most 33 clocks
+      rheo_delay #(.W(W), .N(17)) u_m_d1 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m0_q[j*W +: W]), .q_o(m17));
+      rheo_delay #(.W(W), .N(17)) u_m_d2 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m17), .q_o(m34));
+      always_comb begin
+        dm_w = (W+1)'(ldot32) - (W+1)'(mg32);
+        mnew_w = (W+1)'(m34) + (W+1)'(dmr34_q);
+      end
+      always_ff @(posedge clk_i) begin
+        dm33_q <= sat(dm_w);
+        clip_dm33_q <= clip(dm_w);
+        dmr34_q <= W'(((W+1)'(dm33_q) + (W+1)'(1 << (FracP - FracX - 1))) >>> (FracP - FracX));
+        mnew35_q <= sat(mnew_w);
+        clip_m35_q <= clip(mnew_w);
+      end
+      rheo_delay #(.W(W), .N(4)) u_mout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(mnew35_q), .q_o(m_o[j*W +: W]));
     end
+    // stages 7-8: the arms' force, exact (a pair fits W + 1 bits, four arms W + 2)
     always_ff @(posedge clk_i) begin
-      dm33_q <= sat(dm_w);
-      clip_dm33_q <= clip(dm_w);
-      dmr34_q <= W'(((W+1)'(dm33_q) + (W+1)'(1 << (FracP - FracX - 1))) >>> (FracP - FracX));
-      mnew35_q <= sat(mnew_w);
-      clip_m35_q <= clip(mnew_w);
+      for (int p = 0; p < Pairs; p++) begin
+        if (2 * p + 1 < K) tpair7_q[p] <= (W+1)'(tk6[2*p]) + (W+1)'(tk6[2*p+1]);
+        else tpair7_q[p] <= (W+1)'(tk6[2*p]);
+      end
     end
-    rheo_delay #(.W(W), .N(4)) u_mout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(mnew35_q), .q_o(m_o));
-    assign clip_arm_at33 = clip_dm33_q;
-    assign clip_arm_at35 = clip_m35_q;
-  end else begin : g_no_arm
+    logic signed [W+1:0] tarm_w;
+    always_comb begin
+      tarm_w = '0;
+      for (int p = 0; p < Pairs; p++) tarm_w = tarm_w + (W+2)'(tpair7_q[p]);
+    end
+    always_ff @(posedge clk_i) tarm8_q <= tarm_w;
+    rheo_delay #(.W(W+2), .N(24)) u_tarm_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tarm8_q), .q_o(tarm32));
+    assign clip_arm_at6 = |clip6;
+    assign clip_arm_at33 = |clip_dm33;
+    assign clip_arm_at35 = |clip_m35;
+  end else begin : g_no_arms
     logic unused_m;
     assign unused_m = ^m0_q;
-    assign m26 = '0;
+    assign tarm32 = '0;
+    assign clip_arm_at6 = 1'b0;
     assign clip_arm_at33 = 1'b0;
     assign clip_arm_at35 = 1'b0;
     assign m_o = '0;
@@ -409,9 +481,10 @@ module rheo_tem #(
   always_comb begin
     for (int s = 0; s <= Last; s++) flag_at[s] = 1'b0;
     flag_at[1] = clip1_q;
+    flag_at[6] = clip_arm_at6;
     flag_at[21] = clip_l21 | clip_u21[0] | clip_u21[1] | clip_u21[2];
     flag_at[26] = clip_ldot26;
-    for (int c = 0; c < NumCoef; c++) flag_at[32] = flag_at[32] | cclip32[c];
+    for (int c = 0; c < NumBaseCoef; c++) flag_at[32] = flag_at[32] | cclip32[c];
     flag_at[33] = clip33_q | clip_arm_at33;
     flag_at[35] = clip35_q | clip_arm_at35;
   end

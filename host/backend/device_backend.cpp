@@ -1,8 +1,8 @@
 // The fixed-point cores behind the Backend interface: the bit-true model, the verilated
 // RTL and a remote core, all driven through driver::Device with the frames of the core's
 // stream format. The model is converted by driver::hardware_model (features the core lacks
-// are listed, never silently dropped) and driver::make_core_image; the core variant with
-// the parallel Maxwell arm is chosen when the model has an arm.
+// are listed, never silently dropped) and driver::make_core_image; the core variant is the
+// one with as many Maxwell arms as the model's materials have (driver::edge_element_for).
 #include <algorithm>
 #include <memory>
 
@@ -32,6 +32,7 @@ class DeviceBackend : public Backend {
     const bool arm = element.has_maxwell_arm();
     const Model hw = driver::hardware_model(model, &dropped_, element);
     check_hardware_step(hw, options, dropped_);
+    hw_ = hw;
     if (!device_ || element != element_) {
       link::DeviceOptions o;
       o.lanes = options_.lanes;
@@ -53,8 +54,9 @@ class DeviceBackend : public Backend {
     } catch (const Error& e) {
       // A remote core's variant is the server's choice; the usual cause of a refused image.
       if (!arm || !device_spec_.starts_with("remote:")) throw;
-      throw Error(std::string(e.what()) +
-                  "; the model has a Maxwell arm: the server's core needs it too (rheo "
+      throw Error(std::string(e.what()) + "; the model has " +
+                  std::to_string(element.maxwell_arms) +
+                  " Maxwell arm(s): the server's core needs them too (rheo "
                   "cosim-server --element " + std::string(element.name) + ")");
     }
     t_ = state.t;
@@ -92,14 +94,17 @@ class DeviceBackend : public Backend {
     }
     const int slots = static_cast<int>(img.edges.size());
     const std::vector<std::int32_t> d = device_->read_voigt_lengths(0, slots);
-    const std::vector<std::int32_t> m =
-        element_.has_maxwell_arm() ? device_->read_arm_extensions(0, slots) : std::vector<std::int32_t>{};
+    std::vector<std::vector<std::int32_t>> m(element_.maxwell_arms);
+    for (int j = 0; j < element_.maxwell_arms; ++j) m[j] = device_->read_arm_extensions(j, 0, slots);
     s.d.resize(img.num_edges);
     s.m.assign(img.num_edges, 0.0);
+    s.spectrum.assign(std::size_t(img.num_edges) * spectrum_stride(hw_), 0.0);
     for (int k = 0; k < img.num_edges; ++k) {
       const int slot = img.edge_slot[k];
       s.d[k] = driver::from_x_word(d[slot], img);
-      if (element_.has_maxwell_arm()) s.m[k] = driver::from_x_word(m[slot], img);
+      const int arms = driver::hardware_arm_count(hw_.materials[hw_.edges[k].material]);
+      for (int j = 0; j < arms; ++j)
+        driver::arm_extension(hw_, s, k, j) = driver::from_x_word(m[j][slot], img);
     }
     return s;
   }
@@ -135,6 +140,7 @@ class DeviceBackend : public Backend {
   std::string name_;
   int lanes_ = 1;
   hls::EdgeElement element_ = hls::kThreeElement;
+  Model hw_;  // the model the core computes (arm extensions map back into its state)
   double t_ = 0.0, dt_ = 0.0;
 };
 

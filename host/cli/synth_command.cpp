@@ -159,6 +159,24 @@ void write_ucf(const fs::path& file, double period_ns) {
       << period_ns << " ns HIGH 50%;\n";
 }
 
+// The TEM design of an edge element with arms: "tem_arm" (one arm), "tem_armsK" (K arms).
+std::string tem_label(const hls::EdgeElement& e) {
+  return e.maxwell_arms == 1 ? "tem_arm" : "tem_arms" + std::to_string(e.maxwell_arms);
+}
+const hls::EdgeElement* tem_element(const std::string& label) {
+  for (const hls::EdgeElement& e : hls::kEdgeElements) {
+    if (e.has_maxwell_arm() && tem_label(e) == label) return &e;
+  }
+  return nullptr;
+}
+std::string design_names() {
+  std::string names = "tem";
+  for (const hls::EdgeElement& e : hls::kEdgeElements) {
+    if (e.has_maxwell_arm()) names += ", " + tem_label(e);
+  }
+  return names + ", mpm, core";
+}
+
 void run(const Options& opt) {
   output::StagedDirectory staged(opt.output.out, opt.output.force);
   const fs::path out = staged.path();
@@ -182,11 +200,11 @@ void run(const Options& opt) {
     if (label == "tem") {
       spec.top = "rheo_tem";
       spec.sources = synth::rtl_sources::kTemFiles;
-    } else if (label == "tem_arm") {
-      // The TEM with the parallel Maxwell arm (second_relaxation_time, issue 6).
+    } else if (const hls::EdgeElement* element = tem_element(label)) {
+      // The TEM of an edge element with Maxwell arms (hls/edge_element.hpp).
       spec.top = "rheo_tem";
       spec.sources = synth::rtl_sources::kTemFiles;
-      for (const hls::RtlParameter& p : hls::kThreeElementWithArm.rtl_parameters())
+      for (const hls::RtlParameter& p : element->rtl_parameters())
         spec.params.push_back(std::string(p.name) + "=" + std::to_string(p.value));
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
@@ -203,7 +221,7 @@ void run(const Options& opt) {
       spec.params = {"Lanes=" + std::to_string(opt.lanes)};
       spec.params.insert(spec.params.end(), kCoreCapacityParams.begin(), kCoreCapacityParams.end());
     } else {
-      throw Error("synth: unknown design '" + label + "'; expected tem, tem_arm, mpm or core");
+      throw Error("synth: unknown design '" + label + "'; expected " + design_names());
     }
     std::cout << "synth: " << label << " (" << spec.top << ") ..." << std::flush;
     try {
@@ -464,7 +482,8 @@ void register_synth(CLI::App& app) {
   add_output_options(cmd, opt->output);
   cmd->add_flag("--quiet,-q", opt->quiet, "no progress display on stderr");
   cmd->add_option("--designs", opt->designs,
-                  "subset of tem, tem_arm (TEM with the Maxwell arm), mpm, core")
+                  "subset of " + design_names() +
+                      " (tem_arm, tem_armsK: the TEM with one or K Maxwell arms)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--core-top", opt->core_top, "top module of the core")->capture_default_str();

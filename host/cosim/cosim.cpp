@@ -171,7 +171,7 @@ std::string write_trace_gtkw(const CosimResult& r, const CosimOptions& opt,
   driver::GtkwOptions g;
   g.lanes = r.lanes;
   const hls::EdgeElement* element = hls::find_edge_element(r.element);
-  g.maxwell_arm = element && element->has_maxwell_arm();
+  g.maxwell_arms = element ? element->maxwell_arms : 0;
   // The RTL implements the hardware format (rtl/rheo_consts_pkg.sv is generated from it).
   g.format = driver::FormatDesc::of<hls::HardwareFormat>();
   g.units = driver::Units{r.length_unit_m, r.force_unit_N, r.dt_s};

@@ -126,15 +126,18 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
     case frame::kRegionEdgeLength:
       if (index < std::uint32_t(hls::kMaxEdges)) m.edges[index].d = sword(w);
       return;
-    case frame::kRegionMaterialArm:
-      if (index < std::uint32_t(hls::kMaxMaterials))
-        (field == 0 ? m.materials[index].gamma : m.materials[index].k2t) = unpack_coef(w);
+    default: {
+      // Maxwell arm j: its coefficients per material, its extension per edge slot.
+      const int arm = frame::arm_of_region(region);
+      if (arm < 0) return;
+      if (frame::is_material_arm_region(region) && index < std::uint32_t(hls::kMaxMaterials)) {
+        hls::MaterialCoefs& mc = m.materials[index];
+        (field == 0 ? mc.gamma[arm] : mc.k2t[arm]) = unpack_coef(w);
+      } else if (frame::is_edge_arm_region(region) && index < std::uint32_t(hls::kMaxEdges)) {
+        m.edges[index].m[arm] = sword(w);
+      }
       return;
-    case frame::kRegionEdgeArm:
-      if (index < std::uint32_t(hls::kMaxEdges)) m.edges[index].m = sword(w);
-      return;
-    default:
-      return;
+    }
   }
 }
 
@@ -148,8 +151,8 @@ std::uint32_t BitTrueTransport::read_word(std::uint32_t region, std::uint32_t in
   if (region == frame::kRegionEdgeLength && index < std::uint32_t(hls::kMaxEdges)) {
     return static_cast<std::uint32_t>(m.edges[index].d);
   }
-  if (region == frame::kRegionEdgeArm && index < std::uint32_t(hls::kMaxEdges)) {
-    return static_cast<std::uint32_t>(m.edges[index].m);
+  if (frame::is_edge_arm_region(region) && index < std::uint32_t(hls::kMaxEdges)) {
+    return static_cast<std::uint32_t>(m.edges[index].m[frame::arm_of_region(region)]);
   }
   return 0;
 }

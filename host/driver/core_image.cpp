@@ -139,16 +139,48 @@ hls::Coef encode_coef(double value, const std::string& what, int extra_shift) {
 
 double decode_coef(const hls::Coef& c) { return std::ldexp(double(c.mant), -c.shift); }
 
-const hls::EdgeElement& edge_element_for(const Model& model) {
-  for (const EdgeMaterial& m : model.materials) {
-    if (m.has_maxwell_arm()) return hls::kThreeElementWithArm;
+int hardware_arm_count(const EdgeMaterial& m) {
+  return (m.has_maxwell_arm() ? 1 : 0) + m.spectrum_arms;
+}
+
+EdgeMaterial::Arm hardware_arm(const EdgeMaterial& m, int j) {
+  if (m.has_maxwell_arm()) {
+    if (j == 0) return {m.k2, m.c3};
+    --j;
   }
-  return hls::kThreeElement;
+  return m.spectrum[j];
+}
+
+namespace {
+// Where arm j of an edge keeps its extension in a State: m (the parallel arm) or spectrum.
+template <class S>
+auto& arm_extension_in(const Model& model, S& state, int edge, int j) {
+  const EdgeMaterial& m = model.materials[model.edges[edge].material];
+  if (m.has_maxwell_arm()) {
+    if (j == 0) return state.m.at(edge);
+    --j;
+  }
+  return state.spectrum.at(std::size_t(edge) * spectrum_stride(model) + j);
+}
+}  // namespace
+
+double arm_extension(const Model& model, const State& state, int edge, int j) {
+  return arm_extension_in(model, state, edge, j);
+}
+double& arm_extension(const Model& model, State& state, int edge, int j) {
+  return arm_extension_in(model, state, edge, j);
+}
+
+const hls::EdgeElement& edge_element_for(const Model& model) {
+  int arms = 0;
+  for (const EdgeMaterial& m : model.materials) arms = std::max(arms, hardware_arm_count(m));
+  const hls::EdgeElement* e = hls::edge_element_with_arms(arms);
+  // More arms than any core carries: the largest, and hardware_model drops the arms.
+  return e ? *e : hls::kEdgeElements.back();
 }
 
 Model hardware_model(const Model& model, std::vector<std::string>* dropped,
                      const hls::EdgeElement& element) {
-  const bool keep_maxwell_arm = element.has_maxwell_arm();
   Model hw = model;
   std::vector<std::string> notes;
   for (std::size_t i = 0; i < hw.materials.size(); ++i) {
@@ -156,14 +188,23 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped,
     const std::string where = "material " + std::to_string(i) + ": ";
     if (m.nonlinear) notes.push_back(where + "nonlinear series damper (linear c2 used)");
     if (m.hardening != 0.0) notes.push_back(where + "strain hardening");
-    if (m.has_maxwell_arm() && !keep_maxwell_arm) notes.push_back(where + "parallel Maxwell arm");
-    if (m.has_spectrum()) {
-      notes.push_back(where + "relaxation spectrum (" + std::to_string(m.spectrum_arms) + " arms)");
-    }
     m.nonlinear = false;
     m.hardening = 0.0;
-    m.spectrum_arms = 0;
-    if (!keep_maxwell_arm || !m.has_maxwell_arm()) {
+    // Maxwell arms (the parallel arm and the spectrum's): all of them, or none when the
+    // core has fewer arms than the material.
+    const int arms = hardware_arm_count(m);
+    if (arms > element.maxwell_arms) {
+      if (m.has_maxwell_arm()) notes.push_back(where + "parallel Maxwell arm");
+      if (m.has_spectrum()) {
+        notes.push_back(where + "relaxation spectrum (" + std::to_string(m.spectrum_arms) +
+                        " arms)");
+      }
+      if (arms > 0) {
+        notes.back() += " (the " + std::string(element.name) + " core has " +
+                        std::to_string(element.maxwell_arms) + " of the " +
+                        std::to_string(arms) + " Maxwell arms)";
+      }
+      m.spectrum_arms = 0;
       m.k2 = 0.0;
       m.c3 = 0.0;
     }
@@ -201,7 +242,6 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
   img.format = format;
   img.lanes = lanes;
   img.element = element;
-  const bool maxwell_arm = element.has_maxwell_arm();
   const Model model = hardware_model(model_in, &img.dropped_features, element);
   const int np = model.num_particles();
   const int ne = model.num_edges();
@@ -260,15 +300,18 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     mc.beta = encode_coef(m.c2 / c, where + "beta = c2 / (c1 + c2 + k1 dt)", S::kBeta);
     mc.kt = encode_coef(m.k1 * m.c2 / c * Lu / Fu, where + "kt = k1 c2 / (c1 + c2 + k1 dt)",
                         S::kKt);
-    // With the arm, the arm's spring acts with its extension after this step's update,
-    // m + dm = (1 - gamma) m + ldot (evaluate_edge's arm_lead, the reference's semi-implicit
-    // step): folded here as k2t (1 - gamma) on m and k2 added to the ldot coefficient, so
-    // the core's datapath is unchanged.
-    const bool arm = maxwell_arm && m.has_maxwell_arm();
-    const double gamma = arm ? m.k2 * dt / m.c3 : 0.0;
-    const double ct = m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + (arm ? m.k2 : 0.0);
+    // Each Maxwell arm's spring acts with its extension after this step's update,
+    // m + dm = (1 - gamma) m + ldot (evaluate_edge's lead, the reference's semi-implicit
+    // step): folded here as k2t = k (1 - gamma) on m and k added to the ldot coefficient,
+    // so the core's datapath is unchanged. hardware_model kept the arms only when the
+    // element has room for all of them.
+    const int arms = hardware_arm_count(m);
+    double arm_k_sum = 0.0;
+    for (int j = 0; j < arms; ++j) arm_k_sum += hardware_arm(m, j).k;
+    const double ct = m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + arm_k_sum;
     mc.ct = encode_coef(ct * Lu / Fu,
-                        where + (arm ? "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt) + k2"
+                        where + (arms > 0
+                                     ? "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt) + sum of arm k"
                                      : "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt)"),
                         S::kCt);
     if (m.a_min > 0.0) {
@@ -280,16 +323,18 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
       mc.a_max = encode_coef(m.a_max, where + "a_max", 0);
       mc.flags |= hls::kClampHighEnable;
     }
-    if (arm) {
+    for (int j = 0; j < arms; ++j) {
       // Per step the arm's extension decays by gamma m; its spring adds
-      // k2 (m + dm) = k2 (1 - gamma) m + k2 ldot to T (the second term is in ct above).
+      // k (m + dm) = k (1 - gamma) m + k ldot to T (the second term is in ct above).
+      const EdgeMaterial::Arm a = hardware_arm(m, j);
+      const double gamma = a.k * dt / a.c;
+      const std::string arm = where + "Maxwell arm " + std::to_string(j) + ": ";
       if (!(gamma < 1.0)) {
-        throw Error(where + "gamma = k2 dt / c3 = " + str(gamma) +
-                    " must be below 1 (the arm's relaxation time c3/k2 must exceed dt)");
+        throw Error(arm + "gamma = k dt / c = " + str(gamma) +
+                    " must be below 1 (the arm's relaxation time c/k must exceed dt)");
       }
-      mc.gamma = encode_coef(gamma, where + "gamma = k2 dt / c3", S::kGamma);
-      mc.k2t = encode_coef(m.k2 * (1.0 - gamma) * Lu / Fu,
-                           where + "k2t = k2 (1 - gamma) (Maxwell arm spring)", S::kK2t);
+      mc.gamma[j] = encode_coef(gamma, arm + "gamma = k dt / c", S::kGamma);
+      mc.k2t[j] = encode_coef(a.k * (1.0 - gamma) * Lu / Fu, arm + "k2t = k (1 - gamma)", S::kK2t);
     }
     img.materials.push_back(mc);
   }
@@ -364,8 +409,11 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     ee.material = e.material;
     ee.L = to_x_word(e.L, img, where + " L");
     ee.d = to_x_word(state.d[k], img, where + " d");
-    if (maxwell_arm && k < static_cast<int>(state.m.size()))
-      ee.m = to_x_word(state.m[k], img, where + " m (Maxwell-arm extension)");
+    const int arms = hardware_arm_count(model.materials[e.material]);
+    for (int j = 0; j < arms; ++j) {
+      ee.m[j] = to_x_word(arm_extension(model, state, k, j), img,
+                          where + " m" + std::to_string(j) + " (Maxwell-arm extension)");
+    }
   }
   img.num_particles = np;
   img.num_edges = ne;
@@ -439,16 +487,16 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
     w.push_back(m.flags);
   }
   write_command(out, frame::kRegionMaterial, 0, w);
-  if (img.element.has_maxwell_arm()) {
+  for (int j = 0; j < img.element.maxwell_arms; ++j) {
     w.clear();
     for (const auto& m : img.materials) {
-      w.push_back(pack_coef(m.gamma));
-      w.push_back(pack_coef(m.k2t));
+      w.push_back(pack_coef(m.gamma[j]));
+      w.push_back(pack_coef(m.k2t[j]));
     }
-    write_command(out, frame::kRegionMaterialArm, 0, w);
+    write_command(out, frame::material_arm_region(j), 0, w);
     w.clear();
-    for (const auto& e : img.edges) w.push_back(std::uint32_t(e.m));
-    write_command(out, frame::kRegionEdgeArm, 0, w);
+    for (const auto& e : img.edges) w.push_back(std::uint32_t(e.m[j]));
+    write_command(out, frame::edge_arm_region(j), 0, w);
   }
   return out;
 }

@@ -45,8 +45,8 @@ struct CoreImage {
   std::vector<int> edge_slot;               // per model edge: its slot in `edges`
   std::vector<hls::MaterialCoefs> materials;
   hls::MpmGlobals globals;
-  // The edge element of the core the image is for. With the parallel Maxwell arm the
-  // materials' gamma and k2t and the edges' m are part of it (frames of the arm regions).
+  // The edge element of the core the image is for. With Maxwell arms the materials' gamma
+  // and k2t and the edges' m of each arm are part of it (frames of the arm regions).
   hls::EdgeElement element = hls::kThreeElement;
   // Model features the linear hardware edge does not implement (ignored in the image).
   std::vector<std::string> dropped_features;
@@ -74,22 +74,31 @@ EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int la
 // too many particles/edges/materials for the core's memories, degree >= 256).
 // The image's edges are the slots of schedule_edges (bubbles are invalid slots).
 // element: the edge element of the target core; the parts of the model's edges it computes
-// are kept (with the Maxwell arm: gamma = k2 dt / c3, k2t = k2 Lu / Fu), the rest dropped
-// (listed in dropped_features).
+// are kept (per Maxwell arm j: gamma_j = k_j dt / c_j, k2t_j = k_j (1 - gamma_j) Lu / Fu),
+// the rest dropped (listed in dropped_features).
 CoreImage make_core_image(const Model& model, const State& state, double dt, int lanes,
                           const FormatDesc& format = FormatDesc{},
                           const hls::EdgeElement& element = hls::kThreeElement);
 
 // The model the hardware computes: `model` without the features the linear three-element
-// hardware edge leaves out (nonlinear damper, hardening, Maxwell arm, topology and volume
-// forces) that `element` does not compute. The double reference runs on this for
+// hardware edge leaves out (nonlinear damper, hardening, topology and volume forces) and
+// without a material's Maxwell arms (parallel arm and spectrum) when `element` has fewer. The double reference runs on this for
 // fixed-vs-double comparisons.
 Model hardware_model(const Model& model, std::vector<std::string>* dropped = nullptr,
                      const hls::EdgeElement& element = hls::kThreeElement);
 
-// The simplest edge element that computes every edge part of `model` the hardware has (the
-// Maxwell arm when a material has one); features no element has are dropped regardless.
+// The simplest edge element that computes every edge part of `model` the hardware has (as
+// many Maxwell arms as the material with the most); features no element has are dropped
+// regardless, and so are the arms of a model with more arms than any element carries.
 const hls::EdgeElement& edge_element_for(const Model& model);
+
+// A material's Maxwell arms in the core's order: the parallel arm (k2, c3) first, then the
+// relaxation spectrum's arms. hardware_arm(m, j) for j < hardware_arm_count(m).
+int hardware_arm_count(const EdgeMaterial& m);
+EdgeMaterial::Arm hardware_arm(const EdgeMaterial& m, int j);
+// Arm j's extension of edge `edge` in a state of `model` (state.m or state.spectrum).
+double arm_extension(const Model& model, const State& state, int edge, int j);
+double& arm_extension(const Model& model, State& state, int edge, int j);
 
 // Conversions between SI values and words of a format.
 std::int64_t to_x_word(double meters, const CoreImage& image, const std::string& what);

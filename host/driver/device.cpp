@@ -71,8 +71,12 @@ std::vector<std::int32_t> Device::read_voigt_lengths(int first, int count) {
   return read_region(frame::kRegionEdgeLength, first, count);
 }
 
-std::vector<std::int32_t> Device::read_arm_extensions(int first, int count) {
-  return read_region(frame::kRegionEdgeArm, first, count);
+std::vector<std::int32_t> Device::read_arm_extensions(int arm, int first, int count) {
+  if (arm < 0 || arm >= frame::kMaxArms) {
+    throw Error("Maxwell arm " + std::to_string(arm) + ": a core has arms 0.." +
+                std::to_string(frame::kMaxArms - 1));
+  }
+  return read_region(frame::edge_arm_region(arm), first, count);
 }
 
 CoreStatus Device::read_status(bool clear) {

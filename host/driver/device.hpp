@@ -36,8 +36,8 @@ class Device {
   std::vector<std::int32_t> read_particle_state(int first, int count);
   // d of `count` edge slots from slot `first` (CoreImage::edge_slot maps model edges).
   std::vector<std::int32_t> read_voigt_lengths(int first, int count);
-  // m (the Maxwell arm's extension) of `count` edge slots; cores with the arm only.
-  std::vector<std::int32_t> read_arm_extensions(int first, int count);
+  // m_arm (Maxwell arm `arm`'s extension) of `count` edge slots; cores with that arm only.
+  std::vector<std::int32_t> read_arm_extensions(int arm, int first, int count);
   CoreStatus read_status(bool clear);
 
   Transport& transport() { return *transport_; }

@@ -31,6 +31,7 @@ enum class Expect {
   kWord,     // one state word (FormatDesc::width)
   kWide,     // an accumulator: guard bits above a word, the same binary point
   kVector3,  // three words {z, y, x}: one trace per component
+  kArms,     // one word per Maxwell arm {arm K-1, ..., arm 0}: one trace per arm
 };
 
 struct Trace {
@@ -38,7 +39,7 @@ struct Trace {
   Show show;
   Expect expect;
   const char* name;  // trace name; "{L}" is the lane; component and unit are appended
-  bool arm_only = false;
+  bool arm_only = false;  // only in a core with Maxwell arms
 };
 
 struct Group {
@@ -100,12 +101,12 @@ const std::vector<Group> kTraceGroups = {
          {"g_lane[{L}].u_tem.xe_i", Show::kPosition, Expect::kVector3, "L{L} TEM xe_i"},
          {"g_lane[{L}].u_tem.d_i", Show::kPosition, Expect::kWord, "L{L} TEM d_i"},
          {"g_lane[{L}].u_tem.len_i", Show::kPosition, Expect::kWord, "L{L} TEM len_i"},
-         {"g_lane[{L}].u_tem.m_i", Show::kPosition, Expect::kWord, "L{L} TEM m_i", true},
+         {"g_lane[{L}].u_tem.m_i", Show::kPosition, Expect::kArms, "L{L} TEM m_i", true},
          {"g_lane[{L}].u_tem.valid_o", Show::kBit, Expect::kAny, "L{L} TEM valid_o"},
          {"g_lane[{L}].u_tem.idx_o", Show::kHex, Expect::kAny, "L{L} TEM idx_o"},
          {"g_lane[{L}].u_tem.f_o", Show::kForce, Expect::kVector3, "L{L} TEM f_o"},
          {"g_lane[{L}].u_tem.d_o", Show::kPosition, Expect::kWord, "L{L} TEM d_o"},
-         {"g_lane[{L}].u_tem.m_o", Show::kPosition, Expect::kWord, "L{L} TEM m_o", true},
+         {"g_lane[{L}].u_tem.m_o", Show::kPosition, Expect::kArms, "L{L} TEM m_o", true},
          {"g_lane[{L}].u_tem.sat_o", Show::kBit, Expect::kAny, "L{L} TEM sat_o"},
          {"g_lane[{L}].u_tem.degenerate_o", Show::kBit, Expect::kAny, "L{L} TEM degenerate_o"},
      }},
@@ -387,7 +388,7 @@ std::string make_gtkw(const std::vector<FstSignal>& signals, const GtkwOptions& 
       // Lanes after the first open closed: the first screen shows the core and lane 0.
       out.group_begin(title, g.per_lane && lane > 0);
       for (const Trace& t : g.traces) {
-        if (t.arm_only && !o.maxwell_arm) continue;
+        if (t.arm_only && o.maxwell_arms == 0) continue;
         const std::string rel = replace_all(t.signal, "{L}", L);
         const std::string full = o.core_scope + "." + rel;
         const std::string name = replace_all(t.name, "{L}", L);
@@ -413,19 +414,22 @@ std::string make_gtkw(const std::vector<FstSignal>& signals, const GtkwOptions& 
           bad_width("at least " + std::to_string(w));
           continue;
         }
-        if (t.expect == Expect::kVector3) {
-          if (f.width != 3 * w || !f.has_range || f.msb != 3 * w - 1 || f.lsb != 0) {
-            bad_width(std::to_string(3 * w) + " as [" + std::to_string(3 * w - 1) + ":0]");
+        if (t.expect == Expect::kVector3 || t.expect == Expect::kArms) {
+          const bool arms = t.expect == Expect::kArms;
+          const int words = arms ? o.maxwell_arms : 3;
+          if (f.width != words * w || !f.has_range || f.msb != words * w - 1 || f.lsb != 0) {
+            bad_width(std::to_string(words * w) + " as [" + std::to_string(words * w - 1) +
+                      ":0]");
             continue;
           }
           // One trace per word: bits [c*W + W-1 : c*W], picked out of the vector by
           // GTKWave's bit syntax "(n)signal[msb:0]" (n counts from the msb).
           const std::string filter = filter_args(scale_for(t.show, o, w));
-          for (int c = 0; c < 3; ++c) {
-            const std::string alias =
-                name + " " + kComponentNames[c] + " [" + unit_of(t.show) + "]";
+          for (int c = 0; c < words; ++c) {
+            const std::string part = arms ? "arm" + std::to_string(c) : kComponentNames[c];
+            const std::string alias = name + " " + part + " [" + unit_of(t.show) + "]";
             std::string line = "#{" + alias + "}";
-            for (int n = (2 - c) * w; n < (3 - c) * w; ++n)
+            for (int n = (words - 1 - c) * w; n < (words - c) * w; ++n)
               line += " (" + std::to_string(n) + ")" + f.path;
             out.trace(alias, base_flags(t.show), &filter, line);
           }

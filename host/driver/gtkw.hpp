@@ -62,7 +62,7 @@ struct TracedSteps {
 struct GtkwOptions {
   std::string core_scope = "rheo_core.rheo_core";  // the rheo_core instance in the FST
   int lanes = 1;
-  bool maxwell_arm = false;        // the core's edge element has the arm: show its m words
+  int maxwell_arms = 0;            // Maxwell arms of the core's edge element: their m words
   FormatDesc format;               // binary points of the state words (the RTL's: HardwareFormat)
   Units units;                     // the model's unit choice (CoreImage::units)
   std::string filter_command;      // absolute path of rheo-gtkw-filter (no white space)

@@ -7,6 +7,7 @@
 #include <verilated_fst_c.h>
 
 #include "Vrheo_core_arm_l1.h"
+#include "Vrheo_core_arms4_l1.h"
 #include "Vrheo_core_l1.h"
 #include "Vrheo_core_l2.h"
 #include "Vrheo_core_l4.h"
@@ -187,11 +188,16 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
     if (o.lanes != 1 || o.element != hls::kThreeElement)
       throw Error("RTL core with random power-up state: built for 1 lane without the arm");
     impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
-  } else if (o.element == hls::kThreeElementWithArm) {
+  } else if (o.element.has_maxwell_arm()) {
     if (o.lanes != 1)
       throw Error("RTL core with edge element " + std::string(o.element.name) +
                   ": lanes = " + std::to_string(o.lanes) + ": built for 1 lane only");
-    impl_ = std::make_unique<Harness<Vrheo_core_arm_l1>>(o);
+    if (o.element == hls::kThreeElementWithArm)
+      impl_ = std::make_unique<Harness<Vrheo_core_arm_l1>>(o);
+    else if (o.element == hls::kThreeElementWith4Arms)
+      impl_ = std::make_unique<Harness<Vrheo_core_arms4_l1>>(o);
+    else
+      throw Error("RTL core with edge element " + std::string(o.element.name) + ": not built");
   } else if (o.lanes == 1)
     impl_ = std::make_unique<Harness<Vrheo_core_l1>>(o);
   else if (o.lanes == 2)

@@ -1,7 +1,8 @@
-// Bit-exact cosimulation of the RTL core built with the parallel Maxwell arm
-// (MaxwellArm = 1, Vrheo_core_arm_l1) against the bit-true model with the arm, on block5
-// given a second relaxation time, plus the error of both against the double reference
-// that has the same arm.
+// Bit-exact cosimulation of the RTL cores built with Maxwell arms against the bit-true
+// model with the same arms, plus the error of both against the double reference that has
+// them: the one-arm core (MaxwellArms = 1, Vrheo_core_arm_l1) on block5 given a second
+// relaxation time, and the four-arm core (MaxwellArms = 4, Vrheo_core_arms4_l1) on block5
+// given a four-arm relaxation spectrum (the relaxation_spectrum cause's extension).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -45,25 +46,47 @@ Scenario block5_with_arm() {
   return s;
 }
 
-TEST(ArmCosim, Block5WithMaxwellArmIsBitExactAndTracksTheDoubleReference) {
+// Four arms with relaxation times 0.05, 0.3, 2 and 10 s (the baseline's is 10.1 s), each a
+// a quarter of the one-arm case's k2, so that together they are as stiff as that arm.
+Scenario block5_with_spectrum() {
+  Scenario s = load_scenario("block5");
+  const double taus[4] = {0.05, 0.3, 2.0, 10.0};
+  s.block.material.spectrum_arms = 4;
+  for (int j = 0; j < 4; ++j) {
+    s.block.material.spectrum[j].k = kArmStiffnessPa / 4.0;
+    s.block.material.spectrum[j].c = kArmStiffnessPa / 4.0 * taus[j];
+  }
+  return s;
+}
+
+// Runs the cosimulation and checks it is bit-exact, computes every arm and tracks the
+// double reference; returns the result.
+CosimResult expect_arm_cosim(const Scenario& scenario, const hls::EdgeElement& element) {
   CosimOptions opt;
   opt.steps = kArmRunSteps;
   opt.lanes = 1;
   opt.compare_every = kCompareStateEvery;
-  const CosimResult r = run_cosim(block5_with_arm(), opt);
-  ASSERT_EQ(r.mismatches, 0) << r.first.front().describe();
+  const CosimResult r = run_cosim(scenario, opt);
+  EXPECT_EQ(r.element, element.name);
+  EXPECT_EQ(r.mismatches, 0) << (r.first.empty() ? "" : r.first.front().describe());
   EXPECT_EQ(r.steps, kArmRunSteps);
-  // The arm is computed, not dropped.
-  for (const std::string& f : r.dropped_features)
+  // The arms are computed, not dropped.
+  for (const std::string& f : r.dropped_features) {
     EXPECT_EQ(f.find("Maxwell"), std::string::npos) << f;
+    EXPECT_EQ(f.find("spectrum"), std::string::npos) << f;
+  }
   EXPECT_LE(r.max_pos_err_rel, kMaxPositionErrorRel);
   EXPECT_LE(r.max_force_err_rel, kMaxForceErrorRel);
   EXPECT_NEAR(r.cycles_per_step_measured, double(r.cycles_per_step_formula),
               kCycleFormulaTolerance * r.cycles_per_step_formula);
-  // Double reference without the arm, same protocol: the arm's contribution.
-  const Scenario scenario = block5_with_arm();
+  return r;
+}
+
+// The largest difference of the cosimulation's fixed-point force from a double reference
+// without any arm (same protocol), and the peak force: the arms' contribution.
+std::pair<double, double> arm_effect(const Scenario& scenario, const CosimResult& r) {
   const Model model = scenario.build_model();
-  Simulator no_arm(driver::hardware_model(model), scenario.options);
+  Simulator no_arm(driver::hardware_model(model, nullptr, hls::kThreeElement), scenario.options);
   double max_diff = 0.0, max_force = 0.0;
   for (long n = 0; n < kArmRunSteps; ++n) {
     const double t = double(n + 1) * scenario.options.dt;
@@ -72,6 +95,27 @@ TEST(ArmCosim, Block5WithMaxwellArmIsBitExactAndTracksTheDoubleReference) {
     max_diff = std::max(max_diff, std::fabs(r.force_fixed_N[n] - f));
     max_force = std::max(max_force, std::fabs(r.force_fixed_N[n]));
   }
+  return {max_diff, max_force};
+}
+
+TEST(ArmCosim, Block5WithFourArmSpectrumIsBitExactOnTheFourArmCoreAndTracksTheDoubleReference) {
+  const Scenario scenario = block5_with_spectrum();
+  const CosimResult r = expect_arm_cosim(scenario, hls::kThreeElementWith4Arms);
+  const auto [max_diff, max_force] = arm_effect(scenario, r);
+  EXPECT_GE(max_diff, kMinArmEffectRel * max_force);
+  std::printf(
+      "4-arm cosim: %ld steps, max_pos_err_rel %.3g, max_force_err_rel %.3g, arm effect %.3g N "
+      "of peak %.3g N, cycles/step %.1f (formula %ld)\n",
+      r.steps, r.max_pos_err_rel, r.max_force_err_rel, max_diff, max_force,
+      r.cycles_per_step_measured, r.cycles_per_step_formula);
+  ::testing::Test::RecordProperty("max_pos_err_rel", std::to_string(r.max_pos_err_rel));
+  ::testing::Test::RecordProperty("max_force_err_rel", std::to_string(r.max_force_err_rel));
+}
+
+TEST(ArmCosim, Block5WithMaxwellArmIsBitExactAndTracksTheDoubleReference) {
+  const Scenario scenario = block5_with_arm();
+  const CosimResult r = expect_arm_cosim(scenario, hls::kThreeElementWithArm);
+  const auto [max_diff, max_force] = arm_effect(scenario, r);
   EXPECT_GE(max_diff, kMinArmEffectRel * max_force);
   std::printf("arm effect: max |F_arm - F_no_arm| = %.3g N of peak %.3g N\n", max_diff, max_force);
   ::testing::Test::RecordProperty("max_pos_err_rel", std::to_string(r.max_pos_err_rel));

@@ -1,8 +1,8 @@
 // The RTL TEM (rtl/rheo_tem.sv, verilated alone) against the bit-true tem_edge on random
-// inputs fed one per clock: every output word and flag must be equal. Run for both
-// variants: the baseline TEM (Vrheo_tem) and the one with the parallel Maxwell arm
-// (MaxwellArm = 1, Vrheo_tem_arm), which also carries the arm's extension m and two more
-// coefficients.
+// inputs fed one per clock: every output word and flag must be equal. Run for three
+// variants: the baseline TEM (Vrheo_tem) and the ones with one and four parallel Maxwell
+// arms (MaxwellArms = 1, 4: Vrheo_tem_arm, Vrheo_tem_arms4), which also carry each arm's
+// extension m_j and two more coefficients per arm.
 #include <gtest/gtest.h>
 
 #pragma GCC diagnostic push
@@ -11,6 +11,7 @@
 
 #include "Vrheo_tem.h"
 #include "Vrheo_tem_arm.h"
+#include "Vrheo_tem_arms4.h"
 #pragma GCC diagnostic pop
 
 #include <deque>
@@ -34,10 +35,10 @@ struct Expected {
 };
 
 // Drives kEdges random edges (10 % bubbles, 2 % extreme words that reach the saturation
-// paths) into the verilated TEM `Model` and compares every output with tem_edge<Fmt, kArm>.
-template <class Model, bool kArm>
+// paths) into the verilated TEM `Model` and compares every output with tem_edge<Fmt, kArms>.
+template <class Model, int kArms>
 void expect_rtl_tem_matches_bit_true() {
-  constexpr int kCoefs = kArm ? 8 : 6;
+  constexpr int kCoefs = 6 + 2 * kArms;
   constexpr int kCoefWords = (kCoefs * 24 + 31) / 32;
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<std::int64_t> small_pos(0, std::int64_t(6) << Fmt::kFracX);
@@ -72,11 +73,13 @@ void expect_rtl_tem_matches_bit_true() {
       mc.a_min = driver::encode_coef(0.5 + 0.5 * unit(rng), "a_min", 0);
       mc.a_max = driver::encode_coef(1.0 + unit(rng), "a_max", 0);
       mc.flags = std::uint32_t(cycle & 3);
-      if constexpr (kArm) {
-        in.m = extreme ? any_word(rng) : small_p(rng) * 64;
-        mc.gamma = driver::encode_coef(std::exp2(-14 * unit(rng)), "gamma", S::kGamma);
-        mc.k2t = driver::encode_coef(2.0 * unit(rng), "k2t", S::kK2t);
-        tem->m_i = std::uint32_t(in.m);
+      for (int j = 0; j < kArms; ++j) {
+        in.m[j] = extreme ? any_word(rng) : small_p(rng) * 64;
+        mc.gamma[j] = driver::encode_coef(std::exp2(-14 * unit(rng)), "gamma", S::kGamma);
+        mc.k2t[j] = driver::encode_coef(2.0 * unit(rng), "k2t", S::kK2t);
+        // m_i is one word with one arm, a word array ({arm K-1, ..., arm 0}) with more
+        if constexpr (kArms == 1) tem->m_i = std::uint32_t(in.m[j]);
+        else if constexpr (kArms > 1) tem->m_i[j] = std::uint32_t(in.m[j]);
       }
       for (int a = 0; a < 3; ++a) {
         tem->xs_i[a] = std::uint32_t(in.xs[a]);
@@ -86,9 +89,13 @@ void expect_rtl_tem_matches_bit_true() {
       }
       tem->d_i = std::uint32_t(in.d);
       tem->len_i = std::uint32_t(in.L);
-      const Coef* coefs[8] = {&mc.alpha, &mc.beta,  &mc.kt,    &mc.ct,
-                              &mc.a_min, &mc.a_max, &mc.gamma, &mc.k2t};
-      // coef_i packs the 24-bit fields (six, or eight with the arm) into 32-bit words.
+      const Coef* coefs[6 + 2 * kMaxArms] = {&mc.alpha, &mc.beta, &mc.kt,
+                                             &mc.ct,    &mc.a_min, &mc.a_max};
+      for (int j = 0; j < kMaxArms; ++j) {
+        coefs[6 + 2 * j] = &mc.gamma[j];
+        coefs[7 + 2 * j] = &mc.k2t[j];
+      }
+      // coef_i packs the 24-bit fields (six, and two per arm) into 32-bit words.
       for (int w = 0; w < kCoefWords; ++w) tem->coef_i[w] = 0;
       for (int c = 0; c < kCoefs; ++c) {
         const std::uint64_t v = rtl_test::pack_coef(*coefs[c]);
@@ -99,7 +106,7 @@ void expect_rtl_tem_matches_bit_true() {
       tem->mat_flags_i = mc.flags;
       tem->idx_i = cycle & 0xFFFF;
       std::uint32_t status = 0;
-      const TemOut out = tem_edge<Fmt, kArm>(in, mc, &status);
+      const TemOut out = tem_edge<Fmt, kArms>(in, mc, &status);
       pending.push_back({cycle & 0xFFFF, out, status});
     }
     tem->eval();
@@ -113,8 +120,11 @@ void expect_rtl_tem_matches_bit_true() {
       for (int a = 0; a < 3; ++a)
         ASSERT_EQ(std::int32_t(tem->f_o[a]), e.out.f[a]) << "edge " << e.idx << " f" << a;
       ASSERT_EQ(std::int32_t(tem->d_o), e.out.d) << "edge " << e.idx;
-      if constexpr (kArm) {
-        ASSERT_EQ(std::int32_t(tem->m_o), e.out.m) << "edge " << e.idx;
+      for (int j = 0; j < kArms; ++j) {
+        std::uint32_t m_word = 0;
+        if constexpr (kArms == 1) m_word = tem->m_o;
+        else if constexpr (kArms > 1) m_word = tem->m_o[j];
+        ASSERT_EQ(std::int32_t(m_word), e.out.m[j]) << "edge " << e.idx << " arm " << j;
       }
       ASSERT_EQ(bool(tem->sat_o), bool(e.status & kStatusTemSaturated)) << "edge " << e.idx;
       ASSERT_EQ(bool(tem->degenerate_o), bool(e.status & kStatusDegenerateEdge));
@@ -129,11 +139,15 @@ void expect_rtl_tem_matches_bit_true() {
 }
 
 TEST(RtlTem, MatchesTheBitTrueTemWordForWordOnRandomInputsAtOneEdgePerClock) {
-  expect_rtl_tem_matches_bit_true<Vrheo_tem, false>();
+  expect_rtl_tem_matches_bit_true<Vrheo_tem, 0>();
 }
 
 TEST(RtlTemArm, MatchesTheBitTrueArmTemWordForWordOnRandomInputsAtOneEdgePerClock) {
-  expect_rtl_tem_matches_bit_true<Vrheo_tem_arm, true>();
+  expect_rtl_tem_matches_bit_true<Vrheo_tem_arm, 1>();
+}
+
+TEST(RtlTemArms4, MatchesTheBitTrueFourArmTemWordForWordOnRandomInputsAtOneEdgePerClock) {
+  expect_rtl_tem_matches_bit_true<Vrheo_tem_arms4, 4>();
 }
 
 }  // namespace

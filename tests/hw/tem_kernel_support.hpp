@@ -29,17 +29,20 @@ constexpr double kLengthAbsBoundLsb = 4.0;  // X LSBs
 inline std::int64_t xw(double v) { return std::llround(std::ldexp(v, Fmt::kFracX)); }
 inline std::int64_t pw(double v) { return std::llround(std::ldexp(v, Fmt::kFracP)); }
 
-// The coefficients the host sends for material m at time step dt (clamps and the arm's
-// gamma and k2t only when the material has them).
+// The coefficients the host sends for material m at time step dt (clamps and the arms'
+// gamma and k2t only when the material has them; its arms in the core's order,
+// driver::hardware_arm).
 inline MaterialCoefs encode(const EdgeMaterial& m, double dt) {
   MaterialCoefs mc;
   const double c = m.c1 + m.c2 + m.k1 * dt;  // the Voigt spring on the updated d
   mc.alpha = driver::encode_coef(m.k1 * dt / c, "alpha", S::kAlpha);
   mc.beta = driver::encode_coef(m.c2 / c, "beta", S::kBeta);
   mc.kt = driver::encode_coef(m.k1 * m.c2 / c, "kt", S::kKt);
-  // With the arm, its spring acts on m + dm (driver::make_core_image folds it the same way).
-  const double gamma = m.k2 > 0 ? m.k2 * dt / m.c3 : 0.0;
-  mc.ct = driver::encode_coef(m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + m.k2, "ct", S::kCt);
+  // Each arm's spring acts on m + dm (driver::make_core_image folds it the same way).
+  const int arms = driver::hardware_arm_count(m);
+  double arm_k = 0.0;
+  for (int j = 0; j < arms; ++j) arm_k += driver::hardware_arm(m, j).k;
+  mc.ct = driver::encode_coef(m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + arm_k, "ct", S::kCt);
   if (m.a_min > 0) {
     mc.a_min = driver::encode_coef(m.a_min, "a_min", 0);
     mc.flags |= kClampLowEnable;
@@ -48,9 +51,11 @@ inline MaterialCoefs encode(const EdgeMaterial& m, double dt) {
     mc.a_max = driver::encode_coef(m.a_max, "a_max", 0);
     mc.flags |= kClampHighEnable;
   }
-  if (m.k2 > 0) {
-    mc.gamma = driver::encode_coef(gamma, "gamma", S::kGamma);
-    mc.k2t = driver::encode_coef(m.k2 * (1.0 - gamma), "k2t", S::kK2t);
+  for (int j = 0; j < arms; ++j) {
+    const EdgeMaterial::Arm a = driver::hardware_arm(m, j);
+    const double gamma = a.k * dt / a.c;
+    mc.gamma[j] = driver::encode_coef(gamma, "gamma", S::kGamma);
+    mc.k2t[j] = driver::encode_coef(a.k * (1.0 - gamma), "k2t", S::kK2t);
   }
   return mc;
 }
