@@ -97,15 +97,9 @@ class DeviceBackend : public Backend {
     std::vector<std::vector<std::int32_t>> m(element_.maxwell_arms);
     for (int j = 0; j < element_.maxwell_arms; ++j) m[j] = device_->read_arm_extensions(j, 0, slots);
     s.d.resize(img.num_edges);
-    s.m.assign(img.num_edges, 0.0);
-    s.spectrum.assign(std::size_t(img.num_edges) * spectrum_stride(hw_), 0.0);
-    for (int k = 0; k < img.num_edges; ++k) {
-      const int slot = img.edge_slot[k];
-      s.d[k] = driver::from_x_word(d[slot], img);
-      const int arms = driver::hardware_arm_count(hw_.materials[hw_.edges[k].material]);
-      for (int j = 0; j < arms; ++j)
-        driver::arm_extension(hw_, s, k, j) = driver::from_x_word(m[j][slot], img);
-    }
+    for (int k = 0; k < img.num_edges; ++k) s.d[k] = driver::from_x_word(d[img.edge_slot[k]], img);
+    driver::read_arm_extensions(
+        hw_, img, [&m](int j, int slot) { return std::int64_t(m[j][slot]); }, s);
     return s;
   }
 

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "hls/edge_element.hpp"
 #include "hls/fixed_format.hpp"
 #include "hls/rheo_kernel.hpp"
 #include "host/backend/backend.hpp"
@@ -48,9 +49,12 @@ class FixedFormatBackend final : public Backend {
   std::string arithmetic() const override { return "fixed-point " + name(); }
 
   void load(const Model& model, const State& state, const SimOptions& options) override {
-    const Model hw = driver::hardware_model(model, &dropped_);
-    check_hardware_step(hw, options, dropped_);
-    image_ = driver::make_core_image(hw, state, options.dt, lanes_, driver::FormatDesc::of<Fmt>());
+    // The core variant whose edge element computes the model's edges (its Maxwell arms).
+    element_ = driver::edge_element_for(model);
+    hw_ = driver::hardware_model(model, &dropped_, element_);
+    check_hardware_step(hw_, options, dropped_);
+    image_ = driver::make_core_image(hw_, state, options.dt, lanes_, driver::FormatDesc::of<Fmt>(),
+                                     element_);
     if (!mem_) mem_ = std::make_unique<hls::CoreMemory>();
     driver::load_memory(image_, *mem_);
     t_ = state.t;
@@ -63,7 +67,7 @@ class FixedFormatBackend final : public Backend {
     force.reserve(plate_z.size());
     for (double z : plate_z) {
       hls::start_step(mem_->globals, driver::to_x_word(z, image_, "plate height"));
-      const std::int64_t word = hls::core_step<Fmt>(*mem_);
+      const std::int64_t word = hls::core_step_for<Fmt>(element_, *mem_);
       t_ += dt_;
       if (mem_->status != 0) {
         std::ostringstream os;
@@ -92,10 +96,11 @@ class FixedFormatBackend final : public Backend {
       }
     }
     s.d.resize(image_.num_edges);
-    s.m.assign(image_.num_edges, 0.0);
     for (int k = 0; k < image_.num_edges; ++k) {
       s.d[k] = driver::from_x_word(mem_->edges[image_.edge_slot[k]].d, image_);
     }
+    driver::read_arm_extensions(
+        hw_, image_, [this](int j, int slot) { return mem_->edges[slot].m[j]; }, s);
     return s;
   }
 
@@ -121,6 +126,8 @@ class FixedFormatBackend final : public Backend {
 
   int lanes_ = 1;
   driver::CoreImage image_;
+  hls::EdgeElement element_ = hls::kThreeElement;
+  Model hw_;  // the model the core computes (arm extensions map back into its state)
   std::unique_ptr<hls::CoreMemory> mem_;  // static-size core memories: megabytes
   std::vector<std::string> dropped_;
   double t_ = 0.0, dt_ = 0.0;

@@ -1,4 +1,4 @@
-// The hardware's model (driver::hardware_model, the Maxwell arm kept) stepped in single
+// The hardware's model (driver::hardware_model, the Maxwell arms kept) stepped in single
 // precision: what the fixed-point core would give with float words.
 #include <cmath>
 #include <memory>

@@ -39,6 +39,9 @@ class SieLoop {
     }
     d_.resize(model.num_edges());
     m_.assign(model.num_edges(), Real(0));
+    stride_ = spectrum_stride(model);
+    spectrum_.assign(std::size_t(model.num_edges()) * stride_, Real(0));
+    sdot_.resize(spectrum_.size());
     for (int k = 0; k < model.num_edges(); ++k) d_[k] = static_cast<Real>(model.edges[k].L);
     ddot_.resize(model.num_edges());
     mdot_.resize(model.num_edges());
@@ -56,8 +59,12 @@ class SieLoop {
     a.ddot = ddot_.data();
     a.mdot = mdot_.data();
     a.length = length_.data();
+    a.spectrum = spectrum_.data();
+    a.sdot = sdot_.data();
+    a.spectrum_stride = stride_;
     add_edge_forces<Real, V>(model_, x_.data(), v_.data(), a, double(dt_), f_.data());
     for (int k = 0; k < model_.num_edges(); ++k) m_[k] += dt_ * mdot_[k];
+    for (std::size_t j = 0; j < spectrum_.size(); ++j) spectrum_[j] += dt_ * sdot_[j];
     Real plate_force = Real(0);
     const V g{static_cast<Real>(model_.gravity[0]), static_cast<Real>(model_.gravity[1]),
               static_cast<Real>(model_.gravity[2])};  // as given (model.hpp)
@@ -102,6 +109,8 @@ class SieLoop {
       d_[k] = static_cast<Real>(s.d[k]);
       m_[k] = k < static_cast<int>(s.m.size()) ? static_cast<Real>(s.m[k]) : Real(0);
     }
+    for (std::size_t j = 0; j < spectrum_.size(); ++j)
+      spectrum_[j] = j < s.spectrum.size() ? static_cast<Real>(s.spectrum[j]) : Real(0);
     held_.assign(n, 0);
   }
 
@@ -116,6 +125,7 @@ class SieLoop {
       s.d.push_back(double(d_[k]));
       s.m.push_back(double(m_[k]));
     }
+    for (Real sj : spectrum_) s.spectrum.push_back(double(sj));
     return s;
   }
 
@@ -124,6 +134,8 @@ class SieLoop {
   Real dt_;
   std::vector<V> x_, v_, f_;
   std::vector<Real> d_, m_, ddot_, mdot_, length_;
+  int stride_ = 0;                  // spectrum states per edge (spectrum_stride)
+  std::vector<Real> spectrum_, sdot_;  // spectrum-arm extensions and their rates
   std::vector<std::uint8_t> held_;  // held by the plate in the previous step
 };
 

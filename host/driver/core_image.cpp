@@ -171,6 +171,18 @@ double& arm_extension(const Model& model, State& state, int edge, int j) {
   return arm_extension_in(model, state, edge, j);
 }
 
+void read_arm_extensions(const Model& model, const CoreImage& image,
+                         const std::function<std::int64_t(int arm, int slot)>& word, State& s) {
+  const int ne = model.num_edges();
+  s.m.assign(ne, 0.0);
+  s.spectrum.assign(std::size_t(ne) * spectrum_stride(model), 0.0);
+  for (int k = 0; k < ne; ++k) {
+    const int arms = hardware_arm_count(model.materials[model.edges[k].material]);
+    for (int j = 0; j < arms; ++j)
+      arm_extension(model, s, k, j) = from_x_word(word(j, image.edge_slot[k]), image);
+  }
+}
+
 const hls::EdgeElement& edge_element_for(const Model& model) {
   int arms = 0;
   for (const EdgeMaterial& m : model.materials) arms = std::max(arms, hardware_arm_count(m));

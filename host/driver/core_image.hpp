@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,11 @@ EdgeMaterial::Arm hardware_arm(const EdgeMaterial& m, int j);
 // Arm j's extension of edge `edge` in a state of `model` (state.m or state.spectrum).
 double arm_extension(const Model& model, const State& state, int edge, int j);
 double& arm_extension(const Model& model, State& state, int edge, int j);
+// Sizes s.m and s.spectrum for `model` (the model the core computes) and fills them from
+// the core's arm words: word(j, slot) is arm j's extension word (X format) of edge slot
+// `slot`, asked for every arm each edge's material has.
+void read_arm_extensions(const Model& model, const CoreImage& image,
+                         const std::function<std::int64_t(int arm, int slot)>& word, State& s);
 
 // Conversions between SI values and words of a format.
 std::int64_t to_x_word(double meters, const CoreImage& image, const std::string& what);

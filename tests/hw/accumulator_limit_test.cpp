@@ -10,6 +10,11 @@
 // narrowed for the MPM (the MPM flag), the particle must move toward its edges, and the RTL
 // must equal the bit-true model bit for bit. One more edge is refused by the host.
 //
+// Maxwell arms' force: a four-arm TEM sums the arms' forces exactly and adds them into the
+// tension, which saturates once. Four arms each well inside the word whose sum is beyond it
+// raise the TEM flag, and so do arms each beyond the word; RTL and bit-true agree on the
+// flags, every particle word and every arm extension.
+//
 // Plate force: the plate-force accumulator keeps 16 guard bits and saturates once when the
 // word is sent (StatusPlateSat). Many plate particles each pushing well inside the word
 // range add up beyond it: the flag is raised (and only that flag), in both models alike.
@@ -86,10 +91,14 @@ StepResult one_step(Device& dev, const CoreImage& img, std::int32_t plate_word) 
   return r;
 }
 
-std::unique_ptr<Device> make_device(const std::string& kind, int lanes) {
-  if (kind == "bittrue") return std::make_unique<Device>(std::make_unique<BitTrueTransport>(lanes));
+std::unique_ptr<Device> make_device(const std::string& kind, int lanes,
+                                    const hls::EdgeElement& element = hls::kThreeElement) {
+  if (kind == "bittrue") {
+    return std::make_unique<Device>(std::make_unique<BitTrueTransport>(lanes, element));
+  }
   VerilatorOptions vo;
   vo.lanes = lanes;
+  vo.element = element;
   return std::make_unique<Device>(std::make_unique<VerilatorTransport>(vo));
 }
 
@@ -155,6 +164,75 @@ TEST(ForceAccumulatorLimit, OneEdgeMoreThanTheAccumulatorAllowsIsRefusedByTheHos
         << e.what();
     EXPECT_NE(std::string(e.what()).find("at most 255"), std::string::npos) << e.what();
   }
+}
+
+// One edge whose material has four Maxwell arms (the parallel arm and three spectrum
+// arms), every arm stretched by a tenth of the edge: the arms pull the hub toward the leaf
+// (+x). Heavy particles keep the MPM's update far inside its words, so a flag can only come
+// from the TEM.
+CoreImage stretched_arms_image() {
+  Model m = star(1, true);
+  m.mass.assign(m.mass.size(), 100.0);
+  EdgeMaterial& mat = m.materials[0];
+  mat.k2 = 10.0;
+  mat.c3 = 10.0;
+  mat.spectrum_arms = 3;
+  for (int j = 0; j < 3; ++j) mat.spectrum[j] = {10.0, 10.0 * (j + 2)};
+  State s = initial_state(m);
+  for (int k = 0; k < m.num_edges(); ++k) {
+    for (int j = 0; j < 4; ++j) arm_extension(m, s, k, j) = 0.1 * m.edges[k].L;
+  }
+  return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWith4Arms);
+}
+
+// The bit-true run and the RTL run of one step agree on the flags, every particle word and
+// every arm extension; returns the bit-true result.
+StepResult expect_arm_step_matches(const CoreImage& img) {
+  const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
+  auto bittrue = make_device("bittrue", 1, hls::kThreeElementWith4Arms);
+  auto rtl = make_device("rtl", 1, hls::kThreeElementWith4Arms);
+  const StepResult golden = one_step(*bittrue, img, plate);
+  const StepResult got = one_step(*rtl, img, plate);
+  EXPECT_EQ(got.flags, golden.flags) << describe_status_flags(got.flags);
+  EXPECT_EQ(got.state, golden.state);
+  const int slots = static_cast<int>(img.edges.size());
+  for (int j = 0; j < 4; ++j) {
+    EXPECT_EQ(rtl->read_arm_extensions(j, 0, slots), bittrue->read_arm_extensions(j, 0, slots))
+        << "arm " << j;
+  }
+  return golden;
+}
+
+TEST(ArmForceLimit, FourArmsEachInsideTheWordWhoseSumIsBeyondItSaturateTheTensionOnce) {
+  CoreImage img = stretched_arms_image();
+  auto bittrue = make_device("bittrue", 1, hls::kThreeElementWith4Arms);
+  const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
+  // Raise all four arm springs together, one bit at a time, until the tension saturates.
+  // The step before, the four arms (and the Voigt part) summed to less than the word, so
+  // each arm alone stays below half the word after the last doubling: only the sum clips.
+  bool reached = false;
+  for (int raise = 0; raise < 48 && !reached; ++raise) {
+    const StepResult r = one_step(*bittrue, img, plate);
+    if (r.flags & hls::kStatusTemSaturated) {
+      reached = true;
+      break;
+    }
+    ASSERT_EQ(r.flags, 0u) << describe_status_flags(r.flags);
+    for (int j = 0; j < 4; ++j) --img.materials[0].k2t[j].shift;
+  }
+  ASSERT_TRUE(reached) << "the arms' force never saturated the tension";
+  const StepResult golden = expect_arm_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+  EXPECT_GT(golden.state[3], 0) << "the hub must move toward the leaves (+x)";
+}
+
+TEST(ArmForceLimit, ArmsEachBeyondTheWordSaturateAndRtlAndBitTrueAgree) {
+  CoreImage img = stretched_arms_image();
+  // The largest gain the host allows (shift + the format change >= 0: no left shift).
+  for (int j = 0; j < 4; ++j) img.materials[0].k2t[j].shift = -hls::CoefShifts<hls::HardwareFormat>::kK2t;
+  const StepResult golden = expect_arm_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+  EXPECT_GT(golden.state[3], 0) << "the hub must move toward the leaves (+x)";
 }
 
 // `pairs` plate particles at z = 0.5 m, each hanging from a fixed anchor 0.25 m above by a
