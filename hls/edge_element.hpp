@@ -57,11 +57,17 @@ inline constexpr EdgeElement kThreeElementWithArm{
     "the three-element edge with a parallel Maxwell arm (a second relaxation time)", 1};
 inline constexpr EdgeElement kThreeElementWith4Arms{
     "three-element+4arms",
-    "the three-element edge with four parallel Maxwell arms (a relaxation spectrum)", kMaxArms};
+    "the three-element edge with four parallel Maxwell arms (a relaxation spectrum)", 4};
+inline constexpr EdgeElement kThreeElementWith8Arms{
+    "three-element+8arms",
+    "the three-element edge with eight parallel Maxwell arms (the diagnosis' power-law "
+    "relaxation spectrum)",
+    8};
+static_assert(kThreeElementWith8Arms.maxwell_arms == kMaxArms);
 
 // Every variant the bit-true model and the RTL implement, simplest (fewest arms) first.
-inline constexpr std::array<EdgeElement, 3> kEdgeElements{kThreeElement, kThreeElementWithArm,
-                                                          kThreeElementWith4Arms};
+inline constexpr std::array<EdgeElement, 4> kEdgeElements{
+    kThreeElement, kThreeElementWithArm, kThreeElementWith4Arms, kThreeElementWith8Arms};
 
 // The variant named `name`, or nullptr.
 constexpr const EdgeElement* find_edge_element(std::string_view name) {

@@ -3,7 +3,7 @@
 // generated package rtl/rheo_consts_pkg.sv, the RTL command decoder. Framing only: a
 // transport (in-process call, socket, board link) carries these words unchanged.
 //
-// Every command starts with a header word  [31:28] opcode  [27:24] region  [23:0] count.
+// Every command starts with a header word  [31:29] opcode  [28:24] region  [23:0] count.
 //   kOpWrite  region, count entries: next word = first entry index, then count entries of
 //             words_per_entry(region) words each.                        No response.
 //   kOpRun    count = N steps: then N plate-height words (X format), one consumed at the
@@ -35,11 +35,12 @@ enum Region : std::uint32_t {
   //   kRegionEdgeArm + 2 j:     m_j: the arm spring's extension (X format), per edge slot
   kRegionMaterialArm = 6,
   kRegionEdgeArm = 7,
-  kNumRegions = 14,  // the base regions and kMaxArms arms
+  kNumRegions = 22,  // the base regions and kMaxArms arms
 };
 
 // Parallel Maxwell arms a core can carry: one region pair each, in the header's region field.
-inline constexpr int kMaxArms = 4;
+// Eight: the relaxation spectrum of the diagnosis (sim/relaxation_spectrum.cpp) has eight.
+inline constexpr int kMaxArms = 8;
 // Regions a core without Maxwell arms accepts.
 inline constexpr std::uint32_t kNumBaseRegions = kRegionMaterialArm;
 static_assert(kNumRegions == kNumBaseRegions + 2 * kMaxArms);
@@ -61,8 +62,8 @@ inline constexpr bool is_edge_arm_region(std::uint32_t region) {
   return arm_of_region(region) >= 0 && (region - kRegionEdgeArm) % 2 == 0;
 }
 
-inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1,
-                                                              2, 1, 2, 1, 2, 1};
+inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1, 2, 1, 2,
+                                                              1, 2, 1, 2, 1, 2, 1, 2, 1, 2, 1};
 
 enum GlobalRegister : std::uint32_t {
   kGlobalNumParticles = 0,
@@ -101,10 +102,10 @@ inline constexpr int kCoefShiftPos = 18;
 // Header word fields (shift = lowest bit). The index word that follows a WRITE or READ
 // header and the count-like global registers (kGlobalNumParticles, kGlobalEdgeRows) use
 // the same kCountBits low bits, so one counter width serves every index and count.
-inline constexpr int kHeaderOpcodeShift = 28;
-inline constexpr int kHeaderOpcodeBits = 4;
+inline constexpr int kHeaderOpcodeShift = 29;
+inline constexpr int kHeaderOpcodeBits = 3;
 inline constexpr int kHeaderRegionShift = 24;
-inline constexpr int kHeaderRegionBits = 4;
+inline constexpr int kHeaderRegionBits = 5;
 inline constexpr int kHeaderCountShift = 0;
 inline constexpr int kCountBits = 24;
 inline constexpr std::uint32_t kCountMask = (1u << kCountBits) - 1;
@@ -114,6 +115,7 @@ static_assert(kHeaderCountShift + kCountBits <= kHeaderRegionShift &&
               kHeaderRegionShift + kHeaderRegionBits <= kHeaderOpcodeShift &&
               kHeaderOpcodeShift + kHeaderOpcodeBits <= 32);
 static_assert(kNumRegions <= (1u << kHeaderRegionBits));
+static_assert(kOpStatus < (1u << kHeaderOpcodeBits));
 static_assert(kMaxWordsPerEntry == kWordsPerEntry[kRegionMaterial]);
 
 inline constexpr std::uint32_t header(Opcode op, Region region, std::uint32_t count) {

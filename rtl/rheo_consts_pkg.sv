@@ -53,8 +53,8 @@ package rheo_consts_pkg;
   localparam int RegionEdgeLength = 5;  // region
   localparam int RegionMaterialArm = 6;  // region of arm 0 (arm j: + 2 j)
   localparam int RegionEdgeArm = 7;  // region of arm 0 (arm j: + 2 j)
-  localparam int MaxArms = 4;  // parallel Maxwell arms a core can carry
-  localparam int NumRegions = 14;  // regions
+  localparam int MaxArms = 8;  // parallel Maxwell arms a core can carry
+  localparam int NumRegions = 22;  // regions
   localparam int GlobalNumParticles = 0;  // global register
   localparam int GlobalEdgeRows = 1;  // global register
   localparam int GlobalGravityX = 2;  // global register
@@ -72,10 +72,10 @@ package rheo_consts_pkg;
   localparam int NumBaseRegions = 6;  // regions of a core without Maxwell arms
   localparam int StatusWords = 4;  // words of a status response
   localparam int StatusClearBit = 0;  // status header count: clear the sticky flags after reading
-  localparam int HeaderOpcodeShift = 28;  // header word: opcode
-  localparam int HeaderOpcodeBits = 4;  // header word: opcode bits
+  localparam int HeaderOpcodeShift = 29;  // header word: opcode
+  localparam int HeaderOpcodeBits = 3;  // header word: opcode bits
   localparam int HeaderRegionShift = 24;  // header word: region
-  localparam int HeaderRegionBits = 4;  // header word: region bits
+  localparam int HeaderRegionBits = 5;  // header word: region bits
   localparam int HeaderCountShift = 0;  // header word: count (entries or steps)
   localparam int IdxCountW = 24;  // header count, entry index word and count registers: low bits of their word
   localparam int EntryFieldW = 3;  // word within an entry, and an entry's word count
@@ -103,6 +103,14 @@ package rheo_consts_pkg;
       HeaderRegionBits'(11): words_per_entry = EntryFieldW'(1);
       HeaderRegionBits'(12): words_per_entry = EntryFieldW'(2);
       HeaderRegionBits'(13): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(14): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(15): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(16): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(17): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(18): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(19): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(20): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(21): words_per_entry = EntryFieldW'(1);
       default: words_per_entry = '0;
     endcase
   endfunction

@@ -29,10 +29,10 @@
 // arm j at [j*W +: W]) and two more coefficients per arm (gamma_j, k2t_j). The arms'
 // products need only m_j, so they run early, beside the length computation:
 //    3 m_j^                4 m_j^ gamma_j, k2t_j m_j^    6 scaled
-//    7 pair sums of k2t_j m_j                          8 their exact sum (W + 2 bits),
+//    7-9 the exact sum of k2t_j m_j (a tree of pair sums, W + 3 bits for up to 8 arms),
 //   which waits for stage 33: T = kt ds + ct ldot + sum (one saturation);
 //   33 dm_j = ldot - m_j gamma_j    35 m_j' = m_j + dm_j.
-// Same latency; +2 multipliers per arm (24 with one arm, 30 with four). MaxwellArms = 0
+// Same latency; +2 multipliers per arm (24 with one arm, 30 with four, 38 with eight). MaxwellArms = 0
 // leaves m_i unused and m_o = 0.
 // Mirrors rheo::hls::tem_edge.
 module rheo_tem #(
@@ -104,9 +104,9 @@ module rheo_tem #(
     if (clip(v)) sat = {v[W], {(W-1){~v[W]}}};
     else sat = v[W-1:0];
   endfunction
-  // The tension's three-term sum in W + 3 bits: fits iff the top four bits agree.
-  function automatic logic clip3(input logic [3:0] top);  // bits W+2..W-1
-    clip3 = !((&top) || !(|top));
+  // The tension's three-term sum in W + 4 bits: fits iff the top five bits agree.
+  function automatic logic clip4(input logic [4:0] top);  // bits W+3..W-1
+    clip4 = !((&top) || !(|top));
   endfunction
 
   // ---- control pipeline: valid (reset), index, material flags, saturation ----
@@ -319,27 +319,27 @@ module rheo_tem #(
   end
 
   // ---- stage 33: dd = beta ldot - alpha ds, T = kt ds + ct ldot + the arms' force ----
-  logic signed [W+1:0] tarm32;  // exact sum of the arms' k2t_j m_j (0 without arms)
+  logic signed [W+2:0] tarm32;  // exact sum of the arms' k2t_j m_j (0 without arms)
   logic signed [W-1:0] dd33_q, t33_q;
   logic clip33_q;
-  logic signed [W+2:0] t_w;
+  logic signed [W+3:0] t_w;
   logic signed [W:0] dd_w;
-  logic [W+2:0] csa_a, csa_b, csa_c;
+  logic [W+3:0] csa_a, csa_b, csa_c;
   always_comb begin
     dd_w = (W+1)'(cres32[CBeta]) - (W+1)'(cres32[CAlpha]);
-    csa_a = (W+3)'(cres32[CKt]);
-    csa_b = (W+3)'(cres32[CCt]);
-    csa_c = (W+3)'(tarm32);
+    csa_a = (W+4)'(cres32[CKt]);
+    csa_b = (W+4)'(cres32[CCt]);
+    csa_c = (W+4)'(tarm32);
     // three terms through one carry chain: a carry-save step (one LUT level) first
     t_w = $signed(csa_a ^ csa_b ^ csa_c) +
-          $signed({(csa_a[W+1:0] & csa_b[W+1:0]) | (csa_a[W+1:0] & csa_c[W+1:0]) |
-                   (csa_b[W+1:0] & csa_c[W+1:0]), 1'b0});
+          $signed({(csa_a[W+2:0] & csa_b[W+2:0]) | (csa_a[W+2:0] & csa_c[W+2:0]) |
+                   (csa_b[W+2:0] & csa_c[W+2:0]), 1'b0});
   end
   always_ff @(posedge clk_i) begin
     dd33_q <= sat(dd_w);
-    if (clip3(t_w[W+2:W-1])) t33_q <= {t_w[W+2], {(W-1){~t_w[W+2]}}};
+    if (clip4(t_w[W+3:W-1])) t33_q <= {t_w[W+3], {(W-1){~t_w[W+3]}}};
     else t33_q <= t_w[W-1:0];
-    clip33_q <= clip(dd_w) | clip3(t_w[W+2:W-1]);
+    clip33_q <= clip(dd_w) | clip4(t_w[W+3:W-1]);
   end
 
   // ---- stages 34-36: T^ (operand of f) ----
@@ -387,15 +387,16 @@ module rheo_tem #(
   rheo_delay #(.W(W), .N(3)) u_dout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(dclamp36_q), .q_o(d39));
 
   // ---- parallel Maxwell arms ----
-  //   3 m_j^; 4 m_j^ gamma_j, k2t_j m_j^; 6 scaled; 7-8 the exact sum of k2t_j m_j;
+  //   3 m_j^; 4 m_j^ gamma_j, k2t_j m_j^; 6 scaled; 7-9 the exact sum of k2t_j m_j;
   //   33 dm_j = ldot - m_j gamma_j; 34 dm_j >> (FracP - FracX); 35 m_j' = m_j + that
   logic clip_arm_at6, clip_arm_at33, clip_arm_at35;  // the arms' clip flags per stage
   if (MaxwellArms > 0) begin : g_arms
     localparam int K = MaxwellArms;
-    localparam int Pairs = (K + 1) / 2;
+    localparam int Pairs = (K + 1) / 2, Quads = (K + 3) / 4;
     logic signed [W-1:0] tk6 [K];          // k2t_j m_j, scaled (stage 6)
     logic signed [W:0] tpair7_q [Pairs];   // sums of two arms
-    logic signed [W+1:0] tarm8_q;          // all arms
+    logic signed [W+1:0] tquad8_q [Quads]; // sums of four
+    logic signed [W+2:0] tarm9_q;          // all arms (at most eight)
     logic [K-1:0] clip6, clip_dm33, clip_m35;
     logic signed [W-1:0] ldot32;
     rheo_delay #(.W(W), .N(6)) u_ldot_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ldot26), .q_o(ldot32));
@@ -450,20 +451,21 @@ module rheo_tem #(
       end
       rheo_delay #(.W(W), .N(4)) u_mout_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(mnew35_q), .q_o(m_o[j*W +: W]));
     end
-    // stages 7-8: the arms' force, exact (a pair fits W + 1 bits, four arms W + 2)
+    // stages 7-9: the arms' force, exact, one adder per stage (a pair fits W + 1 bits, four
+    // arms W + 2, eight W + 3)
     always_ff @(posedge clk_i) begin
       for (int p = 0; p < Pairs; p++) begin
         if (2 * p + 1 < K) tpair7_q[p] <= (W+1)'(tk6[2*p]) + (W+1)'(tk6[2*p+1]);
         else tpair7_q[p] <= (W+1)'(tk6[2*p]);
       end
+      for (int q = 0; q < Quads; q++) begin
+        if (2 * q + 1 < Pairs) tquad8_q[q] <= (W+2)'(tpair7_q[2*q]) + (W+2)'(tpair7_q[2*q+1]);
+        else tquad8_q[q] <= (W+2)'(tpair7_q[2*q]);
+      end
+      if (Quads > 1) tarm9_q <= (W+3)'(tquad8_q[0]) + (W+3)'(tquad8_q[Quads-1]);
+      else tarm9_q <= (W+3)'(tquad8_q[0]);
     end
-    logic signed [W+1:0] tarm_w;
-    always_comb begin
-      tarm_w = '0;
-      for (int p = 0; p < Pairs; p++) tarm_w = tarm_w + (W+2)'(tpair7_q[p]);
-    end
-    always_ff @(posedge clk_i) tarm8_q <= tarm_w;
-    rheo_delay #(.W(W+2), .N(24)) u_tarm_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tarm8_q), .q_o(tarm32));
+    rheo_delay #(.W(W+3), .N(23)) u_tarm_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tarm9_q), .q_o(tarm32));
     assign clip_arm_at6 = |clip6;
     assign clip_arm_at33 = |clip_dm33;
     assign clip_arm_at35 = |clip_m35;

@@ -8,6 +8,7 @@
 
 #include "Vrheo_core_arm_l1.h"
 #include "Vrheo_core_arms4_l1.h"
+#include "Vrheo_core_arms8_l1.h"
 #include "Vrheo_core_l1.h"
 #include "Vrheo_core_l2.h"
 #include "Vrheo_core_l4.h"
@@ -196,6 +197,8 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
       impl_ = std::make_unique<Harness<Vrheo_core_arm_l1>>(o);
     else if (o.element == hls::kThreeElementWith4Arms)
       impl_ = std::make_unique<Harness<Vrheo_core_arms4_l1>>(o);
+    else if (o.element == hls::kThreeElementWith8Arms)
+      impl_ = std::make_unique<Harness<Vrheo_core_arms8_l1>>(o);
     else
       throw Error("RTL core with edge element " + std::string(o.element.name) + ": not built");
   } else if (o.lanes == 1)

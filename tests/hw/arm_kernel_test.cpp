@@ -247,7 +247,7 @@ Model small_block_with_spectrum(int spectrum_arms, bool parallel_arm) {
   m.spectrum_arms = spectrum_arms;
   for (int j = 0; j < spectrum_arms; ++j) {
     m.spectrum[j].k = 2e3 * (j + 1);
-    m.spectrum[j].c = m.spectrum[j].k * 0.05 * std::pow(10.0, j);  // tau 50 ms .. 50 s
+    m.spectrum[j].c = m.spectrum[j].k * 0.05 * std::pow(2.0, j);  // tau 50 ms .. 6.4 s
   }
   return model;
 }
@@ -270,14 +270,17 @@ TEST(ArmCoreImage, TheElementFollowsTheArmCountAndKeepsEveryArmItHasRoomFor) {
   EXPECT_EQ(driver::edge_element_for(small_block_with_spectrum(2, false)),
             hls::kThreeElementWith4Arms);
   EXPECT_EQ(driver::edge_element_for(small_block_with_spectrum(0, false)), hls::kThreeElement);
-  // five arms: more than any core carries; the arms are dropped and said so
-  const Model five = small_block_with_spectrum(4, true);
+  // five arms: the eight-arm core
+  EXPECT_EQ(driver::edge_element_for(small_block_with_spectrum(4, true)),
+            hls::kThreeElementWith8Arms);
+  // nine arms: more than any core carries; the arms are dropped and said so
+  const Model nine = small_block_with_spectrum(8, true);
   std::vector<std::string> dropped;
-  const Model hw = driver::hardware_model(five, &dropped, driver::edge_element_for(five));
+  const Model hw = driver::hardware_model(nine, &dropped, driver::edge_element_for(nine));
   EXPECT_EQ(hw.materials[0].spectrum_arms, 0);
   EXPECT_FALSE(hw.materials[0].has_maxwell_arm());
   ASSERT_FALSE(dropped.empty());
-  EXPECT_NE(dropped.back().find("4 of the 5 Maxwell arms"), std::string::npos) << dropped.back();
+  EXPECT_NE(dropped.back().find("8 of the 9 Maxwell arms"), std::string::npos) << dropped.back();
 }
 
 TEST(ArmCoreImage, ArmExtensionsOfTheStateReachTheirEdgeWordsInTheCoresOrder) {

@@ -1,7 +1,8 @@
 // The RTL TEM (rtl/rheo_tem.sv, verilated alone) against the bit-true tem_edge on random
-// inputs fed one per clock: every output word and flag must be equal. Run for three
-// variants: the baseline TEM (Vrheo_tem) and the ones with one and four parallel Maxwell
-// arms (MaxwellArms = 1, 4: Vrheo_tem_arm, Vrheo_tem_arms4), which also carry each arm's
+// inputs fed one per clock: every output word and flag must be equal. Run for four
+// variants: the baseline TEM (Vrheo_tem) and the ones with one, four and eight parallel
+// Maxwell arms (MaxwellArms = 1, 4, 8: Vrheo_tem_arm, Vrheo_tem_arms4, Vrheo_tem_arms8),
+// which also carry each arm's
 // extension m_j and two more coefficients per arm.
 #include <gtest/gtest.h>
 
@@ -12,6 +13,7 @@
 #include "Vrheo_tem.h"
 #include "Vrheo_tem_arm.h"
 #include "Vrheo_tem_arms4.h"
+#include "Vrheo_tem_arms8.h"
 #pragma GCC diagnostic pop
 
 #include <deque>
@@ -148,6 +150,10 @@ TEST(RtlTemArm, MatchesTheBitTrueArmTemWordForWordOnRandomInputsAtOneEdgePerCloc
 
 TEST(RtlTemArms4, MatchesTheBitTrueFourArmTemWordForWordOnRandomInputsAtOneEdgePerClock) {
   expect_rtl_tem_matches_bit_true<Vrheo_tem_arms4, 4>();
+}
+
+TEST(RtlTemArms8, MatchesTheBitTrueEightArmTemWordForWordOnRandomInputsAtOneEdgePerClock) {
+  expect_rtl_tem_matches_bit_true<Vrheo_tem_arms8, 8>();
 }
 
 }  // namespace
