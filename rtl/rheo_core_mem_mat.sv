@@ -57,7 +57,7 @@ module rheo_core_mem_mat #(
       for (int k = 0; k < MaxwellArms; k++) begin
         if (host_we_i && region_i == RegionW'(rheo_consts_pkg::RegionMaterialArm + 2 * k) &&
             entry_ok)
-          mat_arm[MIdxW'(index_i)][k * NumArm + int'(field_i[0])] <= wdata_i;
+          mat_arm[MIdxW'(index_i)][k * NumArm + 32'(field_i[0])] <= wdata_i;
       end
       for (int j = 0; j < Lanes; j++) begin
         for (int c = 0; c < NumArms; c++)
