@@ -90,11 +90,13 @@ template <class Fmt, std::size_t... I>
 inline std::int64_t core_step_for(const EdgeElement& element, CoreMemory& mem,
                                   std::index_sequence<I...>) {
   std::int64_t plate = 0;
-  // Exactly one variant has the element's arm count (the names and counts are unique).
-  ((element.maxwell_arms == kEdgeElements[I].maxwell_arms
-        ? (plate = core_step<Fmt, kEdgeElements[I].maxwell_arms>(mem), true)
-        : false) ||
-   ...);
+  // Exactly one variant has the element's arm count (the names and counts are unique); the
+  // fold stops at it.
+  const bool stepped = ((element.maxwell_arms == kEdgeElements[I].maxwell_arms
+                             ? (plate = core_step<Fmt, kEdgeElements[I].maxwell_arms>(mem), true)
+                             : false) ||
+                        ...);
+  if (!stepped) mem.status |= kStatusBadCommand;  // an element no core is built for
   return plate;
 }
 }  // namespace detail
