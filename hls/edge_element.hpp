@@ -32,21 +32,30 @@ struct EdgeElement {
   // Parallel Maxwell arms per edge (each a spring in series with a damper, with its own
   // extension state), 0..kMaxArms.
   int maxwell_arms = 0;
+  // Force-dependent series damper (seed 000 §3.3): the series damper's viscosity falls with
+  // the Voigt spring force (hls::damper_coefs).
+  bool series_damper = false;
 
   constexpr bool has_maxwell_arm() const { return maxwell_arms > 0; }
-  // Packed coefficients per material the TEM reads (region Material, then the arms').
-  constexpr int material_coefficients() const { return 6 + 2 * maxwell_arms; }
-  // Frame regions the core accepts (the base regions and a region pair per arm); a write
-  // or read of a higher region is a bad command.
-  constexpr std::uint32_t regions() const {
-    return frame::kNumBaseRegions + 2 * std::uint32_t(maxwell_arms);
+  // Packed coefficients per material the TEM reads (region Material, the damper's, then
+  // the arms').
+  constexpr int material_coefficients() const {
+    return 6 + (series_damper ? int(frame::kDamperCoefs) : 0) + 2 * maxwell_arms;
+  }
+  // Whether the core accepts a write or read of `region` (the base regions, a region pair
+  // per arm, the damper's region); any other region is a bad command.
+  constexpr bool accepts_region(std::uint32_t region) const {
+    if (region < frame::kNumBaseRegions) return true;
+    if (region == frame::kRegionMaterialDamper) return series_damper;
+    return frame::arm_of_region(region) >= 0 && frame::arm_of_region(region) < maxwell_arms;
   }
   // The RTL parameters that build this variant (beside Lanes).
-  constexpr std::array<RtlParameter, 1> rtl_parameters() const {
-    return {RtlParameter{"MaxwellArms", maxwell_arms}};
+  constexpr std::array<RtlParameter, 2> rtl_parameters() const {
+    return {RtlParameter{"MaxwellArms", maxwell_arms},
+            RtlParameter{"SeriesDamper", series_damper ? 1 : 0}};
   }
   friend constexpr bool operator==(const EdgeElement& a, const EdgeElement& b) {
-    return a.maxwell_arms == b.maxwell_arms;
+    return a.maxwell_arms == b.maxwell_arms && a.series_damper == b.series_damper;
   }
 };
 
@@ -64,10 +73,19 @@ inline constexpr EdgeElement kThreeElementWith8Arms{
     "relaxation spectrum)",
     8};
 static_assert(kThreeElementWith8Arms.maxwell_arms == kMaxArms);
+inline constexpr EdgeElement kThreeElementWithDamper{
+    "three-element+damper",
+    "the three-element edge with the force-dependent series damper (seed 000 §3.3)", 0, true};
+inline constexpr EdgeElement kThreeElementWithDamper8Arms{
+    "three-element+damper+8arms",
+    "the three-element edge with the force-dependent series damper and eight parallel "
+    "Maxwell arms (every material effect the core computes)",
+    8, true};
 
-// Every variant the bit-true model and the RTL implement, simplest (fewest arms) first.
-inline constexpr std::array<EdgeElement, 4> kEdgeElements{
-    kThreeElement, kThreeElementWithArm, kThreeElementWith4Arms, kThreeElementWith8Arms};
+// Every variant the bit-true model and the RTL implement, simplest (fewest parts) first.
+inline constexpr std::array<EdgeElement, 6> kEdgeElements{
+    kThreeElement,           kThreeElementWithArm,    kThreeElementWith4Arms,
+    kThreeElementWith8Arms,  kThreeElementWithDamper, kThreeElementWithDamper8Arms};
 
 // The variant named `name`, or nullptr.
 constexpr const EdgeElement* find_edge_element(std::string_view name) {
@@ -77,10 +95,11 @@ constexpr const EdgeElement* find_edge_element(std::string_view name) {
   return nullptr;
 }
 
-// The simplest variant with at least `arms` Maxwell arms, or nullptr.
-constexpr const EdgeElement* edge_element_with_arms(int arms) {
+// The simplest variant with at least `arms` Maxwell arms (and the series damper when
+// `damper`), or nullptr.
+constexpr const EdgeElement* edge_element_with(int arms, bool damper) {
   for (const EdgeElement& e : kEdgeElements) {
-    if (e.maxwell_arms >= arms) return &e;
+    if (e.maxwell_arms >= arms && (e.series_damper || !damper)) return &e;
   }
   return nullptr;
 }
@@ -90,12 +109,14 @@ template <class Fmt, std::size_t... I>
 inline std::int64_t core_step_for(const EdgeElement& element, CoreMemory& mem,
                                   std::index_sequence<I...>) {
   std::int64_t plate = 0;
-  // Exactly one variant has the element's arm count (the names and counts are unique); the
-  // fold stops at it.
-  const bool stepped = ((element.maxwell_arms == kEdgeElements[I].maxwell_arms
-                             ? (plate = core_step<Fmt, kEdgeElements[I].maxwell_arms>(mem), true)
-                             : false) ||
-                        ...);
+  // Exactly one variant is the element (the variants are unique); the fold stops at it.
+  const bool stepped =
+      ((element == kEdgeElements[I]
+            ? (plate = core_step<Fmt, kEdgeElements[I].maxwell_arms,
+                                 kEdgeElements[I].series_damper>(mem),
+               true)
+            : false) ||
+       ...);
   if (!stepped) mem.status |= kStatusBadCommand;  // an element no core is built for
   return plate;
 }

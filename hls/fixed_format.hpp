@@ -97,6 +97,36 @@ inline std::uint32_t rsqrt_seed(int index) {
   return static_cast<std::uint32_t>(std::lround(std::ldexp(1.0 / std::sqrt(mid), kRsqrtSeedBits)));
 }
 
+// Force-dependent series damper (seed 000 §3.3; rheo::series_viscosity): per edge the
+// damper's viscosity is c2 = c2_max q with q = 2^-z, where z = log2(c2_max / c2) grows
+// linearly with the Voigt spring force between f1 and f2 (A e^(-B f) in base 2). The core
+// computes q from z with a table of 2^-f, f in [0, 1), and linear interpolation, and the
+// reciprocal of s = c / c_ref (c = c1 + c2 + k1 dt, c_ref its value at c2_max) with a seed
+// table and one Newton-Raphson step (docs/hardware.md, "Force-dependent series damper").
+inline constexpr int kDamperFracZ = 16;    // fractional bits of z
+inline constexpr int kDamperMaxZInt = 63;  // integer part of z (6 bits)
+inline constexpr int kDamperZBits = kDamperFracZ + 6;  // z: an unsigned word of its own
+inline constexpr int kExp2IndexBits = 6;   // 2^-f table: 64 segments (65 entries)
+inline constexpr int kExp2TableBits = 16;  // entries in Q1.16 (2^-0 = 1 is representable)
+// Fractional bits of s. s <= 1 (q <= 1); the host keeps s >= 2^-kDamperMinSBits, so that s
+// carries at least kDamperFracS - kDamperMinSBits significant bits.
+inline constexpr int kDamperFracS = 34;
+inline constexpr int kDamperMinSBits = 16;
+inline constexpr int kRecipIndexBits = 8;  // reciprocal seed: 256 segments of m in [1, 2)
+inline constexpr int kRecipSeedBits = 16;  // seed in Q1.16
+
+// 2^-(i / 64) in Q1.16, i = 0..64 (the interpolation reads entries i and i + 1).
+inline std::uint32_t exp2_table(int index) {
+  return static_cast<std::uint32_t>(
+      std::lround(std::ldexp(std::exp2(-double(index) / (1 << kExp2IndexBits)), kExp2TableBits)));
+}
+
+// Seed for m in [1 + i/256, 1 + (i+1)/256): 1/m at the interval midpoint, in Q1.16.
+inline std::uint32_t recip_seed(int index) {
+  const double mid = 1.0 + (index + 0.5) / (1 << kRecipIndexBits);
+  return static_cast<std::uint32_t>(std::lround(std::ldexp(1.0 / mid, kRecipSeedBits)));
+}
+
 // Status word bits (sticky until read-and-clear).
 enum StatusBit : std::uint32_t {
   kStatusTemSaturated = 1u << 0,    // a TEM result saturated

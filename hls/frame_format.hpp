@@ -35,7 +35,10 @@ enum Region : std::uint32_t {
   //   kRegionEdgeArm + 2 j:     m_j: the arm spring's extension (X format), per edge slot
   kRegionMaterialArm = 6,
   kRegionEdgeArm = 7,
-  kNumRegions = 22,  // the base regions and kMaxArms arms
+  // Force-dependent series damper (a core built with SeriesDamper = 1; others flag a bad
+  // command): d_lo, d_span, zk, s_base, s_c2, ka (packed), see hls::MaterialCoefs.
+  kRegionMaterialDamper = 22,
+  kNumRegions = 23,  // the base regions, kMaxArms arms and the damper
 };
 
 // Parallel Maxwell arms a core can carry: one region pair each, in the header's region field.
@@ -43,7 +46,10 @@ enum Region : std::uint32_t {
 inline constexpr int kMaxArms = 8;
 // Regions a core without Maxwell arms accepts.
 inline constexpr std::uint32_t kNumBaseRegions = kRegionMaterialArm;
-static_assert(kNumRegions == kNumBaseRegions + 2 * kMaxArms);
+static_assert(kRegionMaterialDamper == kNumBaseRegions + 2 * kMaxArms);
+static_assert(kNumRegions == kRegionMaterialDamper + 1);
+// Packed coefficients of a damper region entry.
+inline constexpr std::uint32_t kDamperCoefs = 6;
 
 inline constexpr Region material_arm_region(int arm) {
   return Region(kRegionMaterialArm + 2 * arm);
@@ -51,7 +57,7 @@ inline constexpr Region material_arm_region(int arm) {
 inline constexpr Region edge_arm_region(int arm) { return Region(kRegionEdgeArm + 2 * arm); }
 // The arm a region belongs to (-1 for a base region).
 inline constexpr int arm_of_region(std::uint32_t region) {
-  return region >= kNumBaseRegions && region < kNumRegions
+  return region >= kNumBaseRegions && region < kRegionMaterialDamper
              ? int(region - kNumBaseRegions) / 2
              : -1;
 }
@@ -63,7 +69,8 @@ inline constexpr bool is_edge_arm_region(std::uint32_t region) {
 }
 
 inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1, 2, 1, 2,
-                                                              1, 2, 1, 2, 1, 2, 1, 2, 1, 2, 1};
+                                                              1, 2, 1, 2, 1, 2, 1, 2, 1, 2, 1,
+                                                              kDamperCoefs};
 
 enum GlobalRegister : std::uint32_t {
   kGlobalNumParticles = 0,

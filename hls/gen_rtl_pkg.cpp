@@ -79,6 +79,15 @@ int main() {
   param("RegionMaterialArm", f::kRegionMaterialArm, "region of arm 0 (arm j: + 2 j)");
   param("RegionEdgeArm", f::kRegionEdgeArm, "region of arm 0 (arm j: + 2 j)");
   param("MaxArms", f::kMaxArms, "parallel Maxwell arms a core can carry");
+  param("RegionMaterialDamper", f::kRegionMaterialDamper, "region");
+  param("DamperCoefs", f::kDamperCoefs, "damper material entry: packed coefficients");
+  param("DamperFracZ", h::kDamperFracZ, "fractional bits of the damper's z = log2(c2_max/c2)");
+  param("DamperZBits", h::kDamperZBits, "z: unsigned, 6 integer bits");
+  param("Exp2IndexBits", h::kExp2IndexBits, "2^-f table address bits");
+  param("Exp2TableBits", h::kExp2TableBits, "2^-f table entries: Q1.16");
+  param("DamperFracS", h::kDamperFracS, "fractional bits of s = c / c_ref");
+  param("RecipIndexBits", h::kRecipIndexBits, "reciprocal seed ROM address bits");
+  param("RecipSeedBits", h::kRecipSeedBits, "reciprocal seed: Q1.16");
   param("NumRegions", f::kNumRegions, "regions");
   param("GlobalNumParticles", f::kGlobalNumParticles, "global register");
   param("GlobalEdgeRows", f::kGlobalEdgeRows, "global register");
@@ -142,6 +151,33 @@ int main() {
   }
   std::printf(
       "      default: rsqrt_seed = '0;\n"
+      "    endcase\n"
+      "  endfunction\n\n");
+  std::printf(
+      "  // Force-dependent damper: 2^-(i/64) in Q1.16, i = 0..64.\n"
+      "  function automatic logic [Exp2TableBits:0] exp2_table(\n"
+      "      input logic [Exp2IndexBits:0] index);\n"
+      "    case (index)\n");
+  for (int i = 0; i <= (1 << h::kExp2IndexBits); ++i) {
+    std::printf("      %d'd%d: exp2_table = %d'd%u;\n", h::kExp2IndexBits + 1, i,
+                h::kExp2TableBits + 1, h::exp2_table(i));
+  }
+  std::printf(
+      "      default: exp2_table = '0;\n"
+      "    endcase\n"
+      "  endfunction\n\n");
+  std::printf(
+      "  // Force-dependent damper: reciprocal seed, 1/(midpoint of [1 + i/256, 1 + (i+1)/256))\n"
+      "  // in Q1.16.\n"
+      "  function automatic logic [RecipSeedBits:0] recip_seed(\n"
+      "      input logic [RecipIndexBits-1:0] index);\n"
+      "    case (index)\n");
+  for (int i = 0; i < (1 << h::kRecipIndexBits); ++i) {
+    std::printf("      %d'd%d: recip_seed = %d'd%u;\n", h::kRecipIndexBits, i,
+                h::kRecipSeedBits + 1, h::recip_seed(i));
+  }
+  std::printf(
+      "      default: recip_seed = '0;\n"
       "    endcase\n"
       "  endfunction\n\n");
   std::printf(

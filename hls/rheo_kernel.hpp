@@ -33,6 +33,7 @@
 //     else free particle below the floor: z = 0, p.z = max(p.z, 0)
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include "hls/fixed_format.hpp"
@@ -205,6 +206,16 @@ struct MaterialCoefs {
   // Maxwell arm j (read only by a kernel with more than j arms); an arm a material does
   // not use has zero coefficients: no force, and its extension only follows the length.
   Coef gamma[kMaxArms], k2t[kMaxArms];
+  // Force-dependent series damper (read only by a kernel with Damper = true; region
+  // MaterialDamper). alpha, beta, kt, ct above are then the coefficients at c2 = c2_max
+  // (ct without the arms' k, which is ka), and per edge (damper_coefs):
+  //   z = zk * clamp(|d - L| - d_lo, 0, d_span)       (kDamperFracZ fractional bits)
+  //   q = 2^-z = c2 / c2_max,  s = s_base + s_c2 q = c / c_ref,
+  //   alpha / s, beta q / s, kt q / s, ct q / s;  T += ka * ldot.
+  Coef d_lo, d_span;  // |d - L| (a length) where c2 starts to fall, and the width of the fall
+  Coef zk;            // z per X-format LSB of |d - L| - d_lo
+  Coef s_base, s_c2;  // (c1 + k1 dt) / c_ref and c2_max / c_ref
+  Coef ka;            // the arms' k (their springs' lead on ldot), F per P
 };
 
 struct TemIn {
@@ -219,9 +230,137 @@ struct TemOut {
   std::int64_t m[kMaxArms] = {};  // new Maxwell-arm extensions (X format; 0 beyond Arms)
 };
 
+// ---- force-dependent series damper -------------------------------------------------------
+
+// A coefficient as a word with `frac` fractional bits (mant 2^(frac - shift), rounded).
+template <Rounding R>
+inline i128 coef_word(const Coef& c, int frac) {
+  return shift_round<R>(i128(c.mant), c.shift - frac);
+}
+
+// The coefficients alpha, beta, kt, ct of this edge with the force-dependent series damper:
+// the material's (at c2 = c2_max) times 1/s (alpha) or q/s (the others), with
+//   q = 2^-z, z = zk * clamp(|ds| - d_lo, 0, d_span),  s = s_base + s_c2 q.
+// q: the table of 2^-f at the top kExp2IndexBits fraction bits of z, interpolated linearly
+// over the rest, times 2^-floor(z). 1/s: s normalised to m 2^(nb-1) with m in [1, 2), a seed
+// 1/m from the top kRecipIndexBits fraction bits of m, one Newton-Raphson step
+// y = y0 (2 - m y0). Every product has B-bit operands. A scaled coefficient keeps its
+// 18-bit mantissa (q and y are at most 1) and takes the exponents of q and 1/s into its
+// shift; a shift the packed format or the datapath cannot take is clamped and flagged
+// (the host keeps every reachable shift in range).
+struct DampedCoefs {
+  Coef alpha, beta, kt, ct;
+};
+
+// Shift limits of a damped coefficient: the packed field, and shift + extra >= 0 (the
+// datapath never shifts a coefficient product left beyond the operand's exponent).
+inline int damped_shift(int shift, int extra, std::uint32_t* status) {
+  const int lo = extra > kCoefShiftBias ? -kCoefShiftBias : -extra;
+  const int hi = (1 << kCoefShiftBits) - 1 - kCoefShiftBias;
+  if (shift < lo) {
+    *status |= kStatusTemSaturated;
+    return lo;
+  }
+  if (shift > hi) {
+    *status |= kStatusTemSaturated;
+    return hi;
+  }
+  return shift;
+}
+
+// 2^-f for the kDamperFracZ fraction bits f of z, in Q1.(B-2) (in [1/2, 1]): the table at
+// the top kExp2IndexBits bits, interpolated linearly over the rest.
+template <int B, Rounding R>
+inline std::int64_t exp2_neg_frac(std::int64_t z) {
+  constexpr int kInterpBits = kDamperFracZ - kExp2IndexBits;
+  const int idx = static_cast<int>((z >> kInterpBits) & ((1 << kExp2IndexBits) - 1));
+  const std::int64_t t = z & ((std::int64_t(1) << kInterpBits) - 1);
+  const std::int64_t e0 = std::int64_t(exp2_table(idx)) << (B - 2 - kExp2TableBits);
+  const std::int64_t e1 = std::int64_t(exp2_table(idx + 1)) << (B - 2 - kExp2TableBits);
+  return e0 - static_cast<std::int64_t>(shift_round<R>(i128(e0 - e1) * t, kInterpBits));
+}
+
+// 1/m for m = mr 2^-(B-2) in [1, 2), in Q1.(B-2) (at most 1): the seed at the top
+// kRecipIndexBits fraction bits of m, then one Newton-Raphson step y0 (2 - m y0).
+template <int B, Rounding R>
+inline std::int64_t recip_mantissa(std::int64_t mr) {
+  const int ridx =
+      static_cast<int>((mr >> (B - 2 - kRecipIndexBits)) & ((1 << kRecipIndexBits) - 1));
+  const std::int64_t y0 = std::int64_t(recip_seed(ridx)) << (B - 2 - kRecipSeedBits);
+  const std::int64_t my = static_cast<std::int64_t>(shift_round<R>(i128(mr) * y0, B - 2));
+  const std::int64_t e = (std::int64_t(1) << (B - 1)) - my;  // 2 - m y0, Q1.(B-2)
+  const std::int64_t y = static_cast<std::int64_t>(shift_round<R>(i128(y0) * e, B - 2));
+  const std::int64_t one = std::int64_t(1) << (B - 2);
+  return y > one ? one : y;
+}
+
+template <class Fmt>
+inline DampedCoefs damper_coefs(std::int64_t ds, const MaterialCoefs& m, std::uint32_t* status) {
+  constexpr int W = Fmt::kWidth;
+  constexpr int B = Fmt::kOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
+  using S = CoefShifts<Fmt>;
+  const std::uint32_t kFlag = kStatusTemSaturated;
+  // |d - L| beyond d_lo, clamped to the span: exact (W + 2 bits), never saturates
+  const i128 abs_ds = ds < 0 ? -i128(ds) : i128(ds);
+  i128 excess = abs_ds - coef_word<R>(m.d_lo, Fmt::kFracX);
+  const i128 span = coef_word<R>(m.d_span, Fmt::kFracX);
+  if (excess < 0) excess = 0;
+  if (excess > span) excess = span;
+  // z = zk * excess as an unsigned kDamperZBits-bit word (its own width, not a state word):
+  // z < 0 (a negative zk, which the host never writes) counts as 0; z beyond the word
+  // (q < 2^-kDamperMaxZInt, below every word's resolution) is clamped and flagged.
+  const Operands<1> en = normalize<B, R>(saturate(excess, W, status, kFlag));
+  const i128 z_wide = shift_round<R>(i128(en.mant[0]) * m.zk.mant, m.zk.shift - en.shift);
+  constexpr std::int64_t kZMax = (std::int64_t(1) << kDamperZBits) - 1;
+  std::int64_t zc = 0;
+  if (z_wide > kZMax) {
+    *status |= kFlag;
+    zc = kZMax;
+  } else if (z_wide > 0) {
+    zc = static_cast<std::int64_t>(z_wide);
+  }
+  // q = 2^-z: qm in Q1.(B-2), in [1/2, 1], times 2^-n
+  const int n = static_cast<int>(zc >> kDamperFracZ);
+  const std::int64_t qm = exp2_neg_frac<B, R>(zc);
+  // s = s_base + s_c2 q with kDamperFracS fractional bits
+  const i128 s = coef_word<R>(m.s_base, kDamperFracS) +
+                 shift_round<R>(i128(qm) * m.s_c2.mant, m.s_c2.shift + (B - 2) + n - kDamperFracS);
+  // 1/s = y 2^-(B-2) 2^(kDamperFracS + 1 - nb)
+  std::int64_t y = std::int64_t(1) << (B - 2);
+  int nb = kDamperFracS + 1;
+  if (s <= 0) {
+    *status |= kFlag;  // the host keeps s >= 2^-kDamperMinSBits
+  } else {
+    nb = bit_length(s);
+    // m in [1, 2) as Q1.(B-2); rounding up to 2 is held at the largest operand
+    y = recip_mantissa<B, R>(to_operand<B, R>(s, nb - (B - 1)));
+  }
+  // c * f, f = fm 2^-(B-2) 2^-dshift with fm in [0, 2^(B-2)]: the mantissa cannot grow
+  const auto scale = [&](const Coef& c, std::int64_t fm, int dshift) {
+    Coef out;
+    out.mant = static_cast<std::int32_t>(shift_round<R>(i128(c.mant) * fm, B - 2));
+    out.shift = c.shift + dshift;
+    return out;
+  };
+  const int rshift = nb - kDamperFracS - 1;  // 1/s's exponent as a shift
+  DampedCoefs out;
+  out.alpha = scale(m.alpha, y, rshift);
+  out.beta = scale(scale(m.beta, qm, n), y, rshift);
+  out.kt = scale(scale(m.kt, qm, n), y, rshift);
+  out.ct = scale(scale(m.ct, qm, n), y, rshift);
+  out.alpha.shift = damped_shift(out.alpha.shift, S::kAlpha, status);
+  out.beta.shift = damped_shift(out.beta.shift, S::kBeta, status);
+  out.kt.shift = damped_shift(out.kt.shift, S::kKt, status);
+  out.ct.shift = damped_shift(out.ct.shift, S::kCt, status);
+  return out;
+}
+
+// ---- the TEM ---------------------------------------------------------------------------
+
 // Every product has Fmt::kOperandBits-bit operands (B): r and dp are block-normalised
 // vectors, ldot, d - L, l, T and m normalised words, u a Q1.(B-2) operand.
-template <class Fmt, int Arms = 0>
+template <class Fmt, int Arms = 0, bool Damper = false>
 inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* status) {
 #pragma HLS PIPELINE II = 1
   static_assert(Arms >= 0 && Arms <= kMaxArms);
@@ -261,14 +400,28 @@ inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* s
                         i128(u[2]) * dpn.mant[2];
   const std::int64_t ldot =
       saturate(shift_round<R>(ldot_acc, Fmt::kFracU - dpn.shift), W, status, kFlag);
-  const std::int64_t dd_beta = mul_coef_operand<Fmt>(ldot, m.beta, S::kBeta, status, kFlag);
-  const std::int64_t dd_alpha = mul_coef_operand<Fmt>(ds, m.alpha, S::kAlpha, status, kFlag);
+  // This edge's coefficients: the material's, or with the force-dependent damper the
+  // material's scaled by the damper's state (which depends on ds alone, so the RTL
+  // computes it beside the length).
+  Coef alpha = m.alpha, beta = m.beta, kt = m.kt, ct = m.ct;
+  std::int64_t t_lead = 0;  // the arms' lead on ldot (in ct without the damper)
+  if constexpr (Damper) {
+    const DampedCoefs dc = damper_coefs<Fmt>(ds, m, status);
+    alpha = dc.alpha;
+    beta = dc.beta;
+    kt = dc.kt;
+    ct = dc.ct;
+    t_lead = mul_coef_operand<Fmt>(ldot, m.ka, S::kCt, status, kFlag);
+  }
+  const std::int64_t dd_beta = mul_coef_operand<Fmt>(ldot, beta, S::kBeta, status, kFlag);
+  const std::int64_t dd_alpha = mul_coef_operand<Fmt>(ds, alpha, S::kAlpha, status, kFlag);
   const std::int64_t dd = saturate(i128(dd_beta) - dd_alpha, W, status, kFlag);
-  const std::int64_t t_spring = mul_coef_operand<Fmt>(ds, m.kt, S::kKt, status, kFlag);
-  const std::int64_t t_damper = mul_coef_operand<Fmt>(ldot, m.ct, S::kCt, status, kFlag);
+  const std::int64_t t_spring = mul_coef_operand<Fmt>(ds, kt, S::kKt, status, kFlag);
+  const std::int64_t t_damper = mul_coef_operand<Fmt>(ldot, ct, S::kCt, status, kFlag);
   TemOut out;
   // The arms' force joins the tension in one wide sum, so it saturates once.
-  const std::int64_t tension = saturate(i128(t_spring) + t_damper + t_arms, W, status, kFlag);
+  const std::int64_t tension =
+      saturate(i128(t_spring) + t_damper + t_lead + t_arms, W, status, kFlag);
   for (int j = 0; j < Arms; ++j) {
     const std::int64_t dm = saturate(i128(ldot) - m_decay[j], W, status, kFlag);
     out.m[j] =
@@ -415,7 +568,7 @@ struct CoreMemory {
 // step (the MPM pass starts after the edge pass), and the force sums are exact (wide,
 // saturated only when narrowed for the MPM), so neither the slot order nor the lane
 // assignment changes any bit.
-template <class Fmt, int Arms = 0>
+template <class Fmt, int Arms = 0, bool Damper = false>
 inline std::int64_t core_step(CoreMemory& mem) {
   constexpr int W = Fmt::kWidth;
   const std::uint32_t lanes = mem.lanes;
@@ -449,7 +602,7 @@ edge_pass:
       in.d = edge.d;
       in.L = edge.L;
       for (int j = 0; j < Arms; ++j) in.m[j] = edge.m[j];
-      const TemOut out = tem_edge<Fmt, Arms>(in, mem.materials[edge.material], &mem.status);
+      const TemOut out = tem_edge<Fmt, Arms, Damper>(in, mem.materials[edge.material], &mem.status);
       for (int i = 0; i < 3; ++i) {
         mem.force_start[si][i] += out.f[i];
         mem.force_end[ei][i] -= out.f[i];

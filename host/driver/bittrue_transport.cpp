@@ -126,6 +126,14 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
     case frame::kRegionEdgeLength:
       if (index < std::uint32_t(hls::kMaxEdges)) m.edges[index].d = sword(w);
       return;
+    case frame::kRegionMaterialDamper: {
+      if (index >= std::uint32_t(hls::kMaxMaterials)) return;
+      hls::MaterialCoefs& mc = m.materials[index];
+      hls::Coef* coefs[frame::kDamperCoefs] = {&mc.d_lo,   &mc.d_span, &mc.zk,
+                                               &mc.s_base, &mc.s_c2,   &mc.ka};
+      if (field < frame::kDamperCoefs) *coefs[field] = unpack_coef(w);
+      return;
+    }
     default: {
       // Maxwell arm j: its coefficients per material, its extension per edge slot.
       const int arm = frame::arm_of_region(region);
@@ -167,7 +175,7 @@ void BitTrueTransport::process() {
     const std::uint32_t region = frame::header_region(h);
     const std::uint32_t count = frame::header_count(h);
     if (op == frame::kOpWrite || op == frame::kOpRead) {
-      if (region >= element_.regions()) {
+      if (region >= frame::kNumRegions || !element_.accepts_region(region)) {
         m.status |= hls::kStatusBadCommand;
         in_.pop_front();
         continue;

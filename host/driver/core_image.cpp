@@ -151,6 +151,81 @@ EdgeMaterial::Arm hardware_arm(const EdgeMaterial& m, int j) {
   return m.spectrum[j];
 }
 
+// f = k1 |d - L| (the Voigt spring force), z = log2(c2 / c2(f)) = B log2(e) (f - f1) between
+// f1 and f2 with B = ln(c2 / c2_min) / (f2 - f1): z = zk (|d - L| - d_lo) with
+// d_lo = f1 / k1, d_span = (f2 - f1) / k1 (lengths in Lu) and zk per X-format LSB.
+void encode_damper(const EdgeMaterial& m, double dt, double Lu, double x_limit,
+                   const std::string& where, hls::MaterialCoefs& mc) {
+  using Fmt = hls::HardwareFormat;
+  using S = hls::CoefShifts<Fmt>;
+  const double c = m.c1 + m.c2 + m.k1 * dt;
+  const double s_base = (m.c1 + m.k1 * dt) / c;
+  const double s_c2 = m.c2 / c;
+  mc.s_base = encode_coef(s_base, where + "s_base = (c1 + k1 dt) / (c1 + c2 + k1 dt)", 0);
+  mc.s_c2 = encode_coef(s_c2, where + "s_c2 = c2 / (c1 + c2 + k1 dt)", 0);
+  double d_lo = 0.0, d_span = 0.0, zk = 0.0, q_min = 1.0;
+  if (m.nonlinear && m.k1 > 0.0 && m.f2 > m.f1) {
+    d_lo = m.f1 / m.k1 / Lu;
+    d_span = (m.f2 - m.f1) / m.k1 / Lu;
+    const double b = std::log(m.c2 / m.c2_min) / (m.f2 - m.f1);  // per N
+    // z per X LSB of |d - L|, with kDamperFracZ fractional bits
+    zk = b * m.k1 * Lu * std::log2(std::exp(1.0)) *
+         std::ldexp(1.0, hls::kDamperFracZ - Fmt::kFracX);
+    if (d_lo >= x_limit) {
+      // |d - L| never reaches f1 inside the X range: c2 stays c2_max.
+      d_lo = d_span = zk = 0.0;
+    } else {
+      d_span = std::min(d_span, x_limit - d_lo);
+      q_min = std::exp2(-zk * std::ldexp(d_span, Fmt::kFracX - hls::kDamperFracZ));
+    }
+  }
+  mc.d_lo = encode_coef(d_lo, where + "d_lo = f1 / k1", 0);
+  mc.d_span = encode_coef(d_span, where + "d_span = (f2 - f1) / k1", 0);
+  mc.zk = encode_coef(zk, where + "zk = ln(c2 / c2_min) / (f2 - f1) k1 log2(e) (per X LSB)", 0);
+  const double z_max = zk * std::ldexp(d_span, Fmt::kFracX - hls::kDamperFracZ);
+  if (z_max >= hls::kDamperMaxZInt) {
+    throw Error(where + "the series damper's range c2 / c2_min = " + str(std::exp2(z_max)) +
+                " exceeds the core's 2^" + std::to_string(hls::kDamperMaxZInt));
+  }
+  const double s_min = s_base + s_c2 * q_min;
+  if (s_min < std::ldexp(1.0, -hls::kDamperMinSBits)) {
+    throw Error(where + "(c1 + k1 dt + c2_min) / (c1 + c2 + k1 dt) = " + str(s_min) +
+                " is below the core's 2^-" + std::to_string(hls::kDamperMinSBits) +
+                ": the series damper's range is too wide against c1 + k1 dt");
+  }
+  // Every shift a scaled coefficient reaches (z over its range) must fit the packed format
+  // and the datapath (hls::damped_shift would clamp and flag it).
+  const struct {
+    const hls::Coef* coef;
+    int extra;
+    bool scaled_by_q;
+    const char* name;
+  } scaled[] = {{&mc.alpha, S::kAlpha, false, "alpha"},
+                {&mc.beta, S::kBeta, true, "beta"},
+                {&mc.kt, S::kKt, true, "kt"},
+                {&mc.ct, S::kCt, true, "ct"}};
+  constexpr int kSweep = 4096;
+  for (int i = 0; i <= kSweep; ++i) {
+    const double z = z_max * i / kSweep;
+    const int n = static_cast<int>(std::floor(z));
+    const double s = s_base + s_c2 * std::exp2(-z);
+    int nb = 0;
+    std::frexp(std::ldexp(s, hls::kDamperFracS), &nb);  // bit length of s's word
+    for (const auto& c : scaled) {
+      if (c.coef->mant == 0) continue;
+      const int shift = c.coef->shift + (c.scaled_by_q ? n : 0) + nb - hls::kDamperFracS - 1;
+      const int lo = c.extra > hls::kCoefShiftBias ? -hls::kCoefShiftBias : -c.extra;
+      const int hi = (1 << hls::kCoefShiftBits) - 1 - hls::kCoefShiftBias;
+      if (shift < lo || shift > hi) {
+        throw Error(where + "with the series damper, " + c.name + " at c2 = " +
+                    str(m.c2 * std::exp2(-z)) + " N s/m needs a coefficient shift of " +
+                    std::to_string(shift) + ", outside the core's " + std::to_string(lo) +
+                    ".." + std::to_string(hi));
+      }
+    }
+  }
+}
+
 namespace {
 // Where arm j of an edge keeps its extension in a State: m (the parallel arm) or spectrum.
 template <class S>
@@ -185,8 +260,12 @@ void read_arm_extensions(const Model& model, const CoreImage& image,
 
 const hls::EdgeElement& edge_element_for(const Model& model) {
   int arms = 0;
-  for (const EdgeMaterial& m : model.materials) arms = std::max(arms, hardware_arm_count(m));
-  const hls::EdgeElement* e = hls::edge_element_with_arms(arms);
+  bool damper = false;
+  for (const EdgeMaterial& m : model.materials) {
+    arms = std::max(arms, hardware_arm_count(m));
+    damper = damper || m.nonlinear;
+  }
+  const hls::EdgeElement* e = hls::edge_element_with(arms, damper);
   // More arms than any core carries: the largest, and hardware_model drops the arms.
   return e ? *e : hls::kEdgeElements.back();
 }
@@ -198,9 +277,12 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped,
   for (std::size_t i = 0; i < hw.materials.size(); ++i) {
     EdgeMaterial& m = hw.materials[i];
     const std::string where = "material " + std::to_string(i) + ": ";
-    if (m.nonlinear) notes.push_back(where + "nonlinear series damper (linear c2 used)");
+    if (m.nonlinear && !element.series_damper) {
+      notes.push_back(where + "nonlinear series damper (linear c2 used; the " +
+                      std::string(element.name) + " core has no force-dependent damper)");
+      m.nonlinear = false;
+    }
     if (m.hardening != 0.0) notes.push_back(where + "strain hardening");
-    m.nonlinear = false;
     m.hardening = 0.0;
     // Maxwell arms (the parallel arm and the spectrum's): all of them, or none when the
     // core has fewer arms than the material.
@@ -320,12 +402,19 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     const int arms = hardware_arm_count(m);
     double arm_k_sum = 0.0;
     for (int j = 0; j < arms; ++j) arm_k_sum += hardware_arm(m, j).k;
-    const double ct = m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + arm_k_sum;
+    // With the series damper the arms' k is a coefficient of its own (ka): ct is scaled
+    // per edge by c2 / c, the arms' lead is not.
+    const double ct_arms = element.series_damper ? 0.0 : arm_k_sum;
+    const double ct = m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + ct_arms;
     mc.ct = encode_coef(ct * Lu / Fu,
-                        where + (arms > 0
+                        where + (ct_arms > 0.0
                                      ? "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt) + sum of arm k"
                                      : "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt)"),
                         S::kCt);
+    if (element.series_damper) {
+      mc.ka = encode_coef(arm_k_sum * Lu / Fu, where + "ka = sum of arm k", S::kCt);
+      encode_damper(m, dt, Lu, x_limit, where, mc);
+    }
     if (m.a_min > 0.0) {
       mc.a_min = encode_coef(m.a_min, where + "a_min", 0);
       mc.flags |= hls::kClampLowEnable;
@@ -499,6 +588,14 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
     w.push_back(m.flags);
   }
   write_command(out, frame::kRegionMaterial, 0, w);
+  if (img.element.series_damper) {
+    w.clear();
+    for (const auto& m : img.materials) {
+      for (const hls::Coef* c : {&m.d_lo, &m.d_span, &m.zk, &m.s_base, &m.s_c2, &m.ka})
+        w.push_back(pack_coef(*c));
+    }
+    write_command(out, frame::kRegionMaterialDamper, 0, w);
+  }
   for (int j = 0; j < img.element.maxwell_arms; ++j) {
     w.clear();
     for (const auto& m : img.materials) {

@@ -116,6 +116,13 @@ double from_f_word(std::int64_t word, const CoreImage& image);  // -> force [N]
 // and shift + extra_shift >= 0 (extra_shift: the format change of the product, see
 // hls::CoefShifts). Throws rheo::Error naming `what` when the value does not fit.
 hls::Coef encode_coef(double value, const std::string& what, int extra_shift);
+// The force-dependent series damper's coefficients of material m (hls::damper_coefs:
+// d_lo, d_span, zk, s_base, s_c2), for a core whose base coefficients in mc are those at
+// c2 = c2_max. A linear material gets zk = 0 (q = 1). Throws when the damper's range does
+// not fit the core (c2 / c2_min beyond 2^63, s below 2^-16, a scaled coefficient's shift
+// outside the packed format), naming the material (`where`) and the value.
+void encode_damper(const EdgeMaterial& m, double dt, double length_unit, double x_limit,
+                   const std::string& where, hls::MaterialCoefs& mc);
 double decode_coef(const hls::Coef& c);
 
 // Frame words of the whole image (a sequence of write commands), hardware format only.
