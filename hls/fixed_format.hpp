@@ -112,6 +112,7 @@ inline constexpr int kExp2TableBits = 16;  // entries in Q1.16 (2^-0 = 1 is repr
 // carries at least kDamperFracS - kDamperMinSBits significant bits.
 inline constexpr int kDamperFracS = 34;
 inline constexpr int kDamperMinSBits = 16;
+inline constexpr int kDamperSBits = kDamperFracS + 3;  // s and its terms: signed words
 inline constexpr int kRecipIndexBits = 8;  // reciprocal seed: 256 segments of m in [1, 2)
 inline constexpr int kRecipSeedBits = 16;  // seed in Q1.16
 

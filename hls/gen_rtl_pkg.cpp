@@ -86,6 +86,7 @@ int main() {
   param("Exp2IndexBits", h::kExp2IndexBits, "2^-f table address bits");
   param("Exp2TableBits", h::kExp2TableBits, "2^-f table entries: Q1.16");
   param("DamperFracS", h::kDamperFracS, "fractional bits of s = c / c_ref");
+  param("DamperSBits", h::kDamperSBits, "s and its terms: signed, saturated");
   param("RecipIndexBits", h::kRecipIndexBits, "reciprocal seed ROM address bits");
   param("RecipSeedBits", h::kRecipSeedBits, "reciprocal seed: Q1.16");
   param("NumRegions", f::kNumRegions, "regions");

@@ -323,9 +323,14 @@ inline DampedCoefs damper_coefs(std::int64_t ds, const MaterialCoefs& m, std::ui
   // q = 2^-z: qm in Q1.(B-2), in [1/2, 1], times 2^-n
   const int n = static_cast<int>(zc >> kDamperFracZ);
   const std::int64_t qm = exp2_neg_frac<B, R>(zc);
-  // s = s_base + s_c2 q with kDamperFracS fractional bits
-  const i128 s = coef_word<R>(m.s_base, kDamperFracS) +
-                 shift_round<R>(i128(qm) * m.s_c2.mant, m.s_c2.shift + (B - 2) + n - kDamperFracS);
+  // s = s_base + s_c2 q with kDamperFracS fractional bits, each term and the sum saturated
+  // to kDamperSBits (the host keeps s <= 1; wider words would only carry invalid tables)
+  const std::int64_t s_term_base =
+      saturate(coef_word<R>(m.s_base, kDamperFracS), kDamperSBits, status, kFlag);
+  const std::int64_t s_term_q = saturate(
+      shift_round<R>(i128(qm) * m.s_c2.mant, m.s_c2.shift + (B - 2) + n - kDamperFracS),
+      kDamperSBits, status, kFlag);
+  const i128 s = saturate(i128(s_term_base) + s_term_q, kDamperSBits, status, kFlag);
   // 1/s = y 2^-(B-2) 2^(kDamperFracS + 1 - nb)
   std::int64_t y = std::int64_t(1) << (B - 2);
   int nb = kDamperFracS + 1;

@@ -61,6 +61,7 @@ package rheo_consts_pkg;
   localparam int Exp2IndexBits = 6;  // 2^-f table address bits
   localparam int Exp2TableBits = 16;  // 2^-f table entries: Q1.16
   localparam int DamperFracS = 34;  // fractional bits of s = c / c_ref
+  localparam int DamperSBits = 37;  // s and its terms: signed, saturated
   localparam int RecipIndexBits = 8;  // reciprocal seed ROM address bits
   localparam int RecipSeedBits = 16;  // reciprocal seed: Q1.16
   localparam int NumRegions = 23;  // regions

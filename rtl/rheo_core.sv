@@ -50,6 +50,9 @@
 // read and written like d) and per material gamma_j and k2t_j (region MaterialArm + 2 j).
 // Same cycles per step. MaxwellArms = 0 is the baseline core; the regions of arms the
 // core does not have are refused as bad commands.
+// SeriesDamper = 1 builds the variant with the force-dependent series damper in every TEM
+// (rheo_damper): per material six more coefficients (region MaterialDamper). Same cycles
+// per step; a core without it refuses the region.
 module rheo_core #(
   parameter int Lanes = 1,              // parallel TEM/MPM lanes and banks (1..4)
   parameter int MaxParticles = 4096,    // particle memory depth (all banks)
@@ -57,7 +60,8 @@ module rheo_core #(
   parameter int MaxMaterials = 16,      // material table depth
   parameter int W = 32,                 // stream and state word width
   parameter int CoefW = 24,             // packed coefficient width
-  parameter int MaxwellArms = 0         // parallel Maxwell arms per TEM (0..MaxArms)
+  parameter int MaxwellArms = 0,        // parallel Maxwell arms per TEM (0..MaxArms)
+  parameter int SeriesDamper = 0        // force-dependent series damper in every TEM (0/1)
 ) (
   input  logic         clk_i,
   input  logic         rst_ni,
@@ -82,6 +86,7 @@ module rheo_core #(
   localparam int SumW = AccW + 1;  // start sum + end sum
   localparam int PlateAccW = rheo_consts_pkg::PlateAccW;
   localparam int NumCoef = rheo_consts_pkg::MaterialCoefs +
+                           ((SeriesDamper != 0) ? rheo_consts_pkg::DamperCoefs : 0) +
                            rheo_consts_pkg::MaterialArmCoefs * MaxwellArms;
   localparam int ArmW = ((MaxwellArms > 0) ? MaxwellArms : 1) * W;  // a slot's m words
   localparam int XpWords = rheo_consts_pkg::ParticleStateWords;  // {p, x}
@@ -126,7 +131,7 @@ module rheo_core #(
 
   rheo_core_ctrl #(
     .Lanes(Lanes), .MaxParticles(MaxParticles), .PDepth(PDepth), .EDepth(EDepth), .W(W),
-    .MaxwellArms(MaxwellArms)
+    .MaxwellArms(MaxwellArms), .SeriesDamper(SeriesDamper)
   ) u_ctrl (
     .clk_i(clk_i), .rst_ni(rst_ni),
     .s_axis_tdata(s_axis_tdata), .s_axis_tvalid(s_axis_tvalid), .s_axis_tready(s_axis_tready),
@@ -240,7 +245,8 @@ module rheo_core #(
     assign s_local1[j] = rec1[j][PAW-1:0];
 
     // ---- edge pass stage 2: TEM (start from the own bank, end via the crossbar) ----
-    rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(TemIdxW), .MaxwellArms(MaxwellArms)) u_tem (
+    rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(TemIdxW), .MaxwellArms(MaxwellArms),
+               .SeriesDamper(SeriesDamper)) u_tem (
       .clk_i       (clk_i),
       .rst_ni      (rst_ni),
       .valid_i     (ev2_q[j]),
@@ -334,7 +340,8 @@ module rheo_core #(
 
   // ---------------------------------------------------------------- shared datapath
   rheo_core_mem_mat #(
-    .Lanes(Lanes), .MaxMaterials(MaxMaterials), .CoefW(CoefW), .MaxwellArms(MaxwellArms)
+    .Lanes(Lanes), .MaxMaterials(MaxMaterials), .CoefW(CoefW), .MaxwellArms(MaxwellArms),
+    .SeriesDamper(SeriesDamper)
   ) u_mat (
     .clk_i(clk_i), .host_we_i(host_we), .region_i(region), .index_i(index), .field_i(field),
     .wdata_i(s_axis_tdata[CoefW-1:0]), .mat_i(mat1), .coef_o(tem_coef), .flags_o(mflags2));

@@ -18,6 +18,7 @@ module rheo_core_ctrl #(
   parameter int EDepth = 65536,         // edge slots per lane
   parameter int W = 32,
   parameter int MaxwellArms = 0,        // parallel Maxwell arms: a region pair each
+  parameter int SeriesDamper = 0,       // force-dependent series damper: its material region
   localparam int BW = (Lanes > 1) ? $clog2(Lanes) : 1,
   localparam int IdxCountW = rheo_consts_pkg::IdxCountW,
   localparam int RegionW = rheo_consts_pkg::HeaderRegionBits,
@@ -275,7 +276,9 @@ module rheo_core_ctrl #(
           unique case (hdr_opcode)
             OpW'(rheo_consts_pkg::OpWrite), OpW'(rheo_consts_pkg::OpRead): begin
               reading_d = hdr_opcode == OpW'(rheo_consts_pkg::OpRead);
-              if (hdr_region >= RegionW'(CoreRegions))
+              if (hdr_region >= RegionW'(CoreRegions) &&
+                  !(SeriesDamper != 0 &&
+                    hdr_region == RegionW'(rheo_consts_pkg::RegionMaterialDamper)))
                 status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
               else if (hdr_opcode == OpW'(rheo_consts_pkg::OpRead))
                 state_d = StRStart;

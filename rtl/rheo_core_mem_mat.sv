@@ -1,14 +1,18 @@
 // Material table of rheo_core: per material the packed TEM coefficients and flags (and,
 // with MaxwellArms = K, each arm's gamma_j and k2t_j). Every lane reads it in the same clock, so it
 // is a small LUT RAM with one registered read per lane (the edge pass's stage 2), written
-// by the host only while idle.
+// by the host only while idle. With SeriesDamper = 1 the damper's six coefficients
+// (region MaterialDamper) follow the base ones.
 module rheo_core_mem_mat #(
   parameter int Lanes = 1,
   parameter int MaxMaterials = 16,
   parameter int CoefW = 24,
   parameter int MaxwellArms = 0,
+  parameter int SeriesDamper = 0,
   localparam int MIdxW = $clog2(MaxMaterials),
-  localparam int NumBase = rheo_consts_pkg::MaterialCoefs,
+  localparam int NumBase = rheo_consts_pkg::MaterialCoefs +
+                           ((SeriesDamper != 0) ? rheo_consts_pkg::DamperCoefs : 0),
+  localparam int NumMat = rheo_consts_pkg::MaterialCoefs,  // region Material's coefficients
   localparam int NumArm = rheo_consts_pkg::MaterialArmCoefs,
   localparam int NumCoef = NumBase + NumArm * MaxwellArms,
   localparam int MFlagsW = rheo_consts_pkg::MatFlagsW,
@@ -23,7 +27,7 @@ module rheo_core_mem_mat #(
   input  logic [FieldW-1:0]             field_i,
   input  logic [CoefW-1:0]              wdata_i,  // low bits of the host word
   input  logic [Lanes*MIdxW-1:0]        mat_i,    // lane j's material index
-  output logic [Lanes*NumCoef*CoefW-1:0] coef_o,  // lane j: {arm K-1 .. arm 0, base}
+  output logic [Lanes*NumCoef*CoefW-1:0] coef_o,  // lane j: {arm K-1 .. arm 0, damper, base}
   output logic [Lanes*MFlagsW-1:0]      flags_o
 );
   logic [CoefW-1:0] mat_coef [MaxMaterials][NumBase];
@@ -35,9 +39,13 @@ module rheo_core_mem_mat #(
 
   always_ff @(posedge clk_i) begin
     if (host_we_i && region_i == RegionW'(rheo_consts_pkg::RegionMaterial) && entry_ok) begin
-      if (field_i < FieldW'(NumBase)) mat_coef[MIdxW'(index_i)][field_i] <= wdata_i;
+      if (field_i < FieldW'(NumMat)) mat_coef[MIdxW'(index_i)][32'(field_i)] <= wdata_i;
       else mat_flags[MIdxW'(index_i)] <= wdata_i[MFlagsW-1:0];
     end
+    if (SeriesDamper != 0 && host_we_i &&
+        region_i == RegionW'(rheo_consts_pkg::RegionMaterialDamper) && entry_ok &&
+        field_i < FieldW'(rheo_consts_pkg::DamperCoefs))
+      mat_coef[MIdxW'(index_i)][32'(field_i) + NumMat] <= wdata_i;
   end
 
   always_ff @(posedge clk_i) begin

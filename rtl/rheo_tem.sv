@@ -34,14 +34,23 @@
 //   33 dm_j = ldot - m_j gamma_j    35 m_j' = m_j + dm_j.
 // Same latency; +2 multipliers per arm (24 with one arm, 30 with four, 38 with eight). MaxwellArms = 0
 // leaves m_i unused and m_o = 0.
+// SeriesDamper = 1 adds the force-dependent series damper (rheo::hls::tem_edge<Fmt, K,
+// true>): six more coefficients per material (d_lo, d_span, zk, s_base, s_c2, ka, after the
+// base six), and rheo_damper turns ds into this edge's alpha, beta, kt, ct beside the
+// length computation (stages 1-29), so the products of stage 30 read them; ka ldot (the
+// arms' lead, which the damper does not scale) is a seventh product and a fourth term of T.
+// Same latency; +13 multipliers.
 // Mirrors rheo::hls::tem_edge.
 module rheo_tem #(
   parameter int W = 32,      // state word width (rheo_consts_pkg::Width)
   parameter int CoefW = 24,  // packed coefficient {shift, mantissa}
   parameter int IdxW = 16,   // edge index carried alongside
   parameter int MaxwellArms = 0,  // parallel Maxwell arms, 0..rheo_consts_pkg::MaxArms
+  parameter int SeriesDamper = 0, // force-dependent series damper (1) or not (0)
   localparam int NumBaseCoef = rheo_consts_pkg::MaterialCoefs,
-  localparam int NumCoef = NumBaseCoef + rheo_consts_pkg::MaterialArmCoefs * MaxwellArms,
+  localparam int NumDamperCoef = (SeriesDamper != 0) ? rheo_consts_pkg::DamperCoefs : 0,
+  localparam int NumCoef = NumBaseCoef + NumDamperCoef +
+                           rheo_consts_pkg::MaterialArmCoefs * MaxwellArms,
   localparam int ArmPorts = (MaxwellArms > 0) ? MaxwellArms : 1  // port words of m_i / m_o
 ) (
   input  logic              clk_i,
@@ -55,7 +64,8 @@ module rheo_tem #(
   input  logic [W-1:0]      d_i,        // Voigt length
   input  logic [W-1:0]      len_i,      // Voigt natural length L
   input  logic [ArmPorts*W-1:0] m_i,    // Maxwell-arm extensions, arm j at [j*W +: W]
-  // {arms' {k2t_j, gamma_j} (arm K-1 first), a_max, a_min, ct, kt, beta, alpha}
+  // {arms' {k2t_j, gamma_j} (arm K-1 first), [ka, s_c2, s_base, zk, d_span, d_lo,]
+  //  a_max, a_min, ct, kt, beta, alpha}
   input  logic [NumCoef*CoefW-1:0] coef_i,
   input  logic [1:0]        mat_flags_i,// {clamp high enable, clamp low enable}
   output logic              valid_o,
@@ -76,8 +86,11 @@ module rheo_tem #(
   localparam int Last = rheo_consts_pkg::TemLatency - 1;  // index of the output stage
   localparam int EW = 6;  // normalisation exponents (< W - B + 2)
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
-  // Arm j's coefficients: CGamma + 2 j, CK2t + 2 j.
-  localparam int CGamma = NumBaseCoef, CK2t = NumBaseCoef + 1;
+  // Arm j's coefficients: CGamma + 2 j, CK2t + 2 j; the damper's ka: CKa.
+  localparam int CGamma = NumBaseCoef + NumDamperCoef, CK2t = CGamma + 1;
+  localparam int CKa = NumBaseCoef + 5;
+  // Coefficient products of stage 30: the base six, and ka ldot with the damper.
+  localparam int NumProd = NumBaseCoef + ((SeriesDamper != 0) ? 1 : 0);
   // Largest left shift of a coefficient product: the host keeps shift + extra >= 0, the
   // operand's exponent is at most W - (B - 1).
   localparam int CoefMaxLeft = W - (B - 1);
@@ -91,8 +104,8 @@ module rheo_tem #(
   if (MaxwellArms < 0 || MaxwellArms > rheo_consts_pkg::MaxArms) begin : g_arms_check
     $error("rheo_tem: MaxwellArms must be 0..rheo_consts_pkg::MaxArms");
   end
-  if (NumBaseCoef != 6) begin : g_coef_check
-    $error("rheo_tem: the base coefficients below are alpha, beta, kt, ct, a_min, a_max");
+  if (NumBaseCoef != 6 || (SeriesDamper != 0 && NumDamperCoef != 6)) begin : g_coef_check
+    $error("rheo_tem: the coefficients below are alpha, beta, kt, ct, a_min, a_max (and the damper's six)");
   end
 
   // Saturation of a (W+1)-bit sum to W bits: it clips iff the top two bits differ (a range
@@ -281,14 +294,33 @@ module rheo_tem #(
   end
 
   // ---- stage 30: coefficient products; stages 31-32: shifted back ----
-  logic [CoefW-1:0] coef29 [NumBaseCoef];
-  for (genvar c = 0; c < NumBaseCoef; c++) begin : g_coef_d
-    rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
+  // this edge's coefficients: the material's, or alpha..ct from the damper (and ka)
+  logic [CoefW-1:0] coef29 [NumProd];
+  logic clip_damper29;
+  if (SeriesDamper != 0) begin : g_damper
+    logic [12*CoefW-1:0] dcoef0;
+    logic [4*CoefW-1:0] damped29;
+    always_comb for (int c = 0; c < 12; c++) dcoef0[c*CoefW +: CoefW] = coef0_q[c];
+    rheo_damper #(.W(W), .CoefW(CoefW)) u_damper (
+      .clk_i(clk_i), .ds_i(ds1_q), .coef_i(dcoef0), .coef_o(damped29), .clip_o(clip_damper29));
+    for (genvar c = 0; c < 4; c++) begin : g_damped
+      assign coef29[c] = damped29[c*CoefW +: CoefW];
+    end
+    for (genvar c = 4; c < NumBaseCoef; c++) begin : g_coef_d
+      rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
+    end
+    rheo_delay #(.W(CoefW), .N(29)) u_ka_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[CKa]), .q_o(coef29[NumBaseCoef]));
+  end else begin : g_no_damper
+    assign clip_damper29 = 1'b0;
+    for (genvar c = 0; c < NumBaseCoef; c++) begin : g_coef_d
+      rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
+    end
   end
-  // operand of each coefficient and the extra shift of its format change
+  // operand of each coefficient (product NumBaseCoef is ka) and the extra shift of its
+  // format change
   function automatic int coef_operand(input int c);
     case (c)
-      CBeta, CCt: coef_operand = OpLdot;
+      CBeta, CCt, NumBaseCoef: coef_operand = OpLdot;
       CAlpha, CKt: coef_operand = OpDs;
       default: coef_operand = OpL;
     endcase
@@ -298,15 +330,15 @@ module rheo_tem #(
       CAlpha: coef_extra = rheo_consts_pkg::ShiftAlpha;
       CBeta: coef_extra = rheo_consts_pkg::ShiftBeta;
       CKt: coef_extra = rheo_consts_pkg::ShiftKt;
-      CCt: coef_extra = rheo_consts_pkg::ShiftCt;
+      CCt, NumBaseCoef: coef_extra = rheo_consts_pkg::ShiftCt;
       default: coef_extra = rheo_consts_pkg::ShiftClamp;
     endcase
   endfunction
-  logic signed [PW-1:0] cprod30_q [NumBaseCoef];
-  logic [6:0] cs30_q [NumBaseCoef];
-  logic signed [W-1:0] cres32 [NumBaseCoef];
-  logic cclip32 [NumBaseCoef];
-  for (genvar c = 0; c < NumBaseCoef; c++) begin : g_coef
+  logic signed [PW-1:0] cprod30_q [NumProd];
+  logic [6:0] cs30_q [NumProd];
+  logic signed [W-1:0] cres32 [NumProd];
+  logic cclip32 [NumProd];
+  for (genvar c = 0; c < NumProd; c++) begin : g_coef
     always_ff @(posedge clk_i) begin
       cprod30_q[c] <= $signed(opn29[coef_operand(c)]) * $signed(coef29[c][CoefMantBits-1:0]);
       // shift + extra - e, biased by CoefMaxLeft (>= 0: the host keeps shift + extra >= 0)
@@ -325,11 +357,19 @@ module rheo_tem #(
   logic signed [W+3:0] t_w;
   logic signed [W:0] dd_w;
   logic [W+3:0] csa_a, csa_b, csa_c;
+  logic signed [W+3:0] tarm_lead32;  // the arms' force, and ka ldot with the damper
+  if (SeriesDamper != 0) begin : g_lead
+    // at most eight arms' words and ka ldot: |sum| < 2^(W+2) + 2^(W-1), so with kt ds and
+    // ct ldot T stays below 2^(W+3) and the sum below is exact in W + 4 bits
+    assign tarm_lead32 = (W+4)'(tarm32) + (W+4)'(cres32[NumBaseCoef]);
+  end else begin : g_no_lead
+    assign tarm_lead32 = (W+4)'(tarm32);
+  end
   always_comb begin
     dd_w = (W+1)'(cres32[CBeta]) - (W+1)'(cres32[CAlpha]);
     csa_a = (W+4)'(cres32[CKt]);
     csa_b = (W+4)'(cres32[CCt]);
-    csa_c = (W+4)'(tarm32);
+    csa_c = (W+4)'(tarm_lead32);
     // three terms through one carry chain: a carry-save step (one LUT level) first
     t_w = $signed(csa_a ^ csa_b ^ csa_c) +
           $signed({(csa_a[W+2:0] & csa_b[W+2:0]) | (csa_a[W+2:0] & csa_c[W+2:0]) |
@@ -486,7 +526,8 @@ module rheo_tem #(
     flag_at[6] = clip_arm_at6;
     flag_at[21] = clip_l21 | clip_u21[0] | clip_u21[1] | clip_u21[2];
     flag_at[26] = clip_ldot26;
-    for (int c = 0; c < NumBaseCoef; c++) flag_at[32] = flag_at[32] | cclip32[c];
+    flag_at[29] = clip_damper29;
+    for (int c = 0; c < NumProd; c++) flag_at[32] = flag_at[32] | cclip32[c];
     flag_at[33] = clip33_q | clip_arm_at33;
     flag_at[35] = clip35_q | clip_arm_at35;
   end

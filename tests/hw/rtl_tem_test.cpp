@@ -1,9 +1,11 @@
 // The RTL TEM (rtl/rheo_tem.sv, verilated alone) against the bit-true tem_edge on random
 // inputs fed one per clock: every output word and flag must be equal. Run for four
-// variants: the baseline TEM (Vrheo_tem) and the ones with one, four and eight parallel
+// variants: the baseline TEM (Vrheo_tem), the ones with one, four and eight parallel
 // Maxwell arms (MaxwellArms = 1, 4, 8: Vrheo_tem_arm, Vrheo_tem_arms4, Vrheo_tem_arms8),
-// which also carry each arm's
-// extension m_j and two more coefficients per arm.
+// which also carry each arm's extension m_j and two more coefficients per arm, and the ones
+// with the force-dependent series damper (SeriesDamper = 1: Vrheo_tem_damper, and with eight
+// arms Vrheo_tem_damper_arms8), whose six coefficients per material drive the edge's
+// alpha, beta, kt, ct through the 2^-f table and the reciprocal.
 #include <gtest/gtest.h>
 
 #pragma GCC diagnostic push
@@ -14,6 +16,8 @@
 #include "Vrheo_tem_arm.h"
 #include "Vrheo_tem_arms4.h"
 #include "Vrheo_tem_arms8.h"
+#include "Vrheo_tem_damper.h"
+#include "Vrheo_tem_damper_arms8.h"
 #pragma GCC diagnostic pop
 
 #include <deque>
@@ -37,10 +41,15 @@ struct Expected {
 };
 
 // Drives kEdges random edges (10 % bubbles, 2 % extreme words that reach the saturation
-// paths) into the verilated TEM `Model` and compares every output with tem_edge<Fmt, kArms>.
-template <class Model, int kArms>
+// paths) into the verilated TEM `Model` and compares every output with
+// tem_edge<Fmt, kArms, kDamper>. With the damper, its coefficients are drawn over the
+// ranges the host writes, and 2 % of the materials get any packed word for d_lo, d_span, zk,
+// s_base and s_c2 (negative slopes, shifts far out of range: the clamps and flags of
+// hls::damper_coefs).
+template <class Model, int kArms, bool kDamper = false>
 void expect_rtl_tem_matches_bit_true() {
-  constexpr int kCoefs = 6 + 2 * kArms;
+  constexpr int kDamperCoefs = kDamper ? 6 : 0;
+  constexpr int kCoefs = 6 + kDamperCoefs + 2 * kArms;
   constexpr int kCoefWords = (kCoefs * 24 + 31) / 32;
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<std::int64_t> small_pos(0, std::int64_t(6) << Fmt::kFracX);
@@ -75,6 +84,23 @@ void expect_rtl_tem_matches_bit_true() {
       mc.a_min = driver::encode_coef(0.5 + 0.5 * unit(rng), "a_min", 0);
       mc.a_max = driver::encode_coef(1.0 + unit(rng), "a_max", 0);
       mc.flags = std::uint32_t(cycle & 3);
+      if constexpr (kDamper) {
+        if (unit(rng) < 0.02) {
+          std::uniform_int_distribution<std::uint32_t> any_packed(0, (1u << 24) - 1);
+          for (Coef* c : {&mc.d_lo, &mc.d_span, &mc.zk, &mc.s_base, &mc.s_c2})
+            *c = rtl_test::unpack_coef(any_packed(rng));
+        } else {
+          mc.d_lo = driver::encode_coef(0.05 * unit(rng), "d_lo", 0);
+          mc.d_span = driver::encode_coef(0.2 * unit(rng), "d_span", 0);
+          // z up to ~12 over the span: c2 falls by up to 2^12
+          mc.zk = driver::encode_coef(std::exp2(-8 - 8 * unit(rng)), "zk", 0);
+          const double sb = std::exp2(-14 * unit(rng));
+          mc.s_base = driver::encode_coef(sb, "s_base", 0);
+          mc.s_c2 = driver::encode_coef(1.0 - sb, "s_c2", 0);
+        }
+        // ka is an ordinary coefficient (the host keeps its shift + extra >= 0)
+        mc.ka = driver::encode_coef(kArms > 0 ? 2.0 * unit(rng) : 0.0, "ka", S::kCt);
+      }
       for (int j = 0; j < kArms; ++j) {
         in.m[j] = extreme ? any_word(rng) : small_p(rng) * 64;
         mc.gamma[j] = driver::encode_coef(std::exp2(-14 * unit(rng)), "gamma", S::kGamma);
@@ -91,13 +117,17 @@ void expect_rtl_tem_matches_bit_true() {
       }
       tem->d_i = std::uint32_t(in.d);
       tem->len_i = std::uint32_t(in.L);
-      const Coef* coefs[6 + 2 * kMaxArms] = {&mc.alpha, &mc.beta, &mc.kt,
-                                             &mc.ct,    &mc.a_min, &mc.a_max};
-      for (int j = 0; j < kMaxArms; ++j) {
-        coefs[6 + 2 * j] = &mc.gamma[j];
-        coefs[7 + 2 * j] = &mc.k2t[j];
+      const Coef* coefs[12 + 2 * kMaxArms] = {&mc.alpha, &mc.beta, &mc.kt,
+                                              &mc.ct,    &mc.a_min, &mc.a_max};
+      if constexpr (kDamper) {
+        const Coef* damper[6] = {&mc.d_lo, &mc.d_span, &mc.zk, &mc.s_base, &mc.s_c2, &mc.ka};
+        for (int c = 0; c < 6; ++c) coefs[6 + c] = damper[c];
       }
-      // coef_i packs the 24-bit fields (six, and two per arm) into 32-bit words.
+      for (int j = 0; j < kMaxArms; ++j) {
+        coefs[6 + kDamperCoefs + 2 * j] = &mc.gamma[j];
+        coefs[7 + kDamperCoefs + 2 * j] = &mc.k2t[j];
+      }
+      // coef_i packs the 24-bit fields (six, the damper's six, two per arm) into 32-bit words.
       for (int w = 0; w < kCoefWords; ++w) tem->coef_i[w] = 0;
       for (int c = 0; c < kCoefs; ++c) {
         const std::uint64_t v = rtl_test::pack_coef(*coefs[c]);
@@ -108,7 +138,7 @@ void expect_rtl_tem_matches_bit_true() {
       tem->mat_flags_i = mc.flags;
       tem->idx_i = cycle & 0xFFFF;
       std::uint32_t status = 0;
-      const TemOut out = tem_edge<Fmt, kArms>(in, mc, &status);
+      const TemOut out = tem_edge<Fmt, kArms, kDamper>(in, mc, &status);
       pending.push_back({cycle & 0xFFFF, out, status});
     }
     tem->eval();
@@ -154,6 +184,14 @@ TEST(RtlTemArms4, MatchesTheBitTrueFourArmTemWordForWordOnRandomInputsAtOneEdgeP
 
 TEST(RtlTemArms8, MatchesTheBitTrueEightArmTemWordForWordOnRandomInputsAtOneEdgePerClock) {
   expect_rtl_tem_matches_bit_true<Vrheo_tem_arms8, 8>();
+}
+
+TEST(RtlTemDamper, MatchesTheBitTrueDamperTemWordForWordOnRandomInputsAtOneEdgePerClock) {
+  expect_rtl_tem_matches_bit_true<Vrheo_tem_damper, 0, true>();
+}
+
+TEST(RtlTemDamperArms8, MatchesTheBitTrueDamperAndEightArmTemWordForWordAtOneEdgePerClock) {
+  expect_rtl_tem_matches_bit_true<Vrheo_tem_damper_arms8, 8, true>();
 }
 
 }  // namespace
