@@ -113,7 +113,7 @@ module rheo_damper #(
     if (clamp_w > (W+4)'(dspan3_q)) clamp_w = (W+4)'(dspan3_q);
   end
   always_ff @(posedge clk_i) begin
-    abs2_q <= ds_i[W-1] ? -(W+1)'(ds_i) : (W+1)'(ds_i);
+    abs2_q <= ds_i[W-1] ? -((W+1)'(ds_i)) : (W+1)'(ds_i);
     exc3_q <= (W+4)'(abs2_q) - (W+4)'(dlo2);
     dspan3_q <= dspan2;
     clip4_q <= clamp_w > WordMax || clamp_w < WordMin;

@@ -159,22 +159,76 @@ void write_ucf(const fs::path& file, double period_ns) {
       << period_ns << " ns HIGH 50%;\n";
 }
 
-// The TEM design of an edge element with arms: "tem_arm" (one arm), "tem_armsK" (K arms).
+// The TEM design of an edge element: "tem" (the three-element edge), then "_damper" with the
+// force-dependent series damper and "_arm" (one arm) or "_armsK" (K arms).
 std::string tem_label(const hls::EdgeElement& e) {
-  return e.maxwell_arms == 1 ? "tem_arm" : "tem_arms" + std::to_string(e.maxwell_arms);
+  std::string label = "tem";
+  if (e.series_damper) label += "_damper";
+  if (e.maxwell_arms == 1) label += "_arm";
+  if (e.maxwell_arms > 1) label += "_arms" + std::to_string(e.maxwell_arms);
+  return label;
 }
 const hls::EdgeElement* tem_element(const std::string& label) {
   for (const hls::EdgeElement& e : hls::kEdgeElements) {
-    if (e.has_maxwell_arm() && tem_label(e) == label) return &e;
+    if (tem_label(e) == label) return &e;
+  }
+  return nullptr;
+}
+// The whole core built for an edge element: "core" (the baseline), "core_damper",
+// "core_arms8", ... (the suffix of its TEM design).
+std::string core_label(const hls::EdgeElement& e) { return "core" + tem_label(e).substr(3); }
+const hls::EdgeElement* core_element(const std::string& label) {
+  for (const hls::EdgeElement& e : hls::kEdgeElements) {
+    if (core_label(e) == label) return &e;
   }
   return nullptr;
 }
 std::string design_names() {
-  std::string names = "tem";
-  for (const hls::EdgeElement& e : hls::kEdgeElements) {
-    if (e.has_maxwell_arm()) names += ", " + tem_label(e);
+  std::string names;
+  for (const hls::EdgeElement& e : hls::kEdgeElements) names += tem_label(e) + ", ";
+  names += "mpm";
+  for (const hls::EdgeElement& e : hls::kEdgeElements) names += ", " + core_label(e);
+  return names;
+}
+
+// What each edge element adds to the baseline: every synthesised TEM or core design of an
+// element beside the baseline design of its kind ("tem" or "core"), in LUT4, FF,
+// MULT18X18, RAMB16 and clock. Printed, and returned for synth.json.
+json feature_costs(const std::map<std::string, synth::SynthResult>& results) {
+  json rows = json::array();
+  for (const char* kind : {"tem", "core"}) {
+    const auto base = results.find(kind);
+    if (base == results.end()) continue;
+    const Resources& b = base->second.resources;
+    for (const hls::EdgeElement& e : hls::kEdgeElements) {
+      const std::string label = std::string(kind) == "tem" ? tem_label(e) : core_label(e);
+      const auto it = results.find(label);
+      if (label == kind || it == results.end()) continue;
+      const Resources& r = it->second.resources;
+      rows.push_back({{"design", label},
+                      {"element", e.name},
+                      {"baseline", kind},
+                      {"lut4", r.lut4 - b.lut4},
+                      {"flip_flops", r.ff - b.ff},
+                      {"mult18x18", r.mult18 - b.mult18},
+                      {"ramb16", r.ramb16 - b.ramb16},
+                      {"fmax_mhz", it->second.timing.fmax_mhz},
+                      {"baseline_fmax_mhz", base->second.timing.fmax_mhz}});
+    }
   }
-  return names + ", mpm, core";
+  if (!rows.empty()) {
+    std::cout << "synth: cost of each edge element over its baseline design:\n";
+    for (const json& r : rows) {
+      std::cout << "  " << std::left << std::setw(20) << r["design"].get<std::string>()
+                << std::right << " +" << r["lut4"].get<long long>() << " LUT4, +"
+                << r["flip_flops"].get<long long>() << " FF, +" << r["mult18x18"].get<long long>()
+                << " MULT18X18, +" << r["ramb16"].get<long long>() << " RAMB16, ~"
+                << std::fixed << std::setprecision(0) << r["fmax_mhz"].get<double>() << " MHz ("
+                << r["baseline"].get<std::string>() << ": ~"
+                << r["baseline_fmax_mhz"].get<double>() << " MHz)\n";
+    }
+  }
+  return rows;
 }
 
 void run(const Options& opt) {
@@ -197,11 +251,8 @@ void run(const Options& opt) {
     synth::DesignSpec spec;
     spec.label = label;
     // Source lists: rtl/sources.cmake, the same the Verilator models are built from.
-    if (label == "tem") {
-      spec.top = "rheo_tem";
-      spec.sources = synth::rtl_sources::kTemFiles;
-    } else if (const hls::EdgeElement* element = tem_element(label)) {
-      // The TEM of an edge element with Maxwell arms (hls/edge_element.hpp).
+    if (const hls::EdgeElement* element = tem_element(label)) {
+      // The TEM of an edge element (hls/edge_element.hpp); "tem" is the baseline's.
       spec.top = "rheo_tem";
       spec.sources = synth::rtl_sources::kTemFiles;
       for (const hls::RtlParameter& p : element->rtl_parameters())
@@ -209,7 +260,7 @@ void run(const Options& opt) {
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
       spec.sources = synth::rtl_sources::kMpmFiles;
-    } else if (label == "core") {
+    } else if (const hls::EdgeElement* core = core_element(label)) {
       spec.top = opt.core_top;
       spec.sources = synth::rtl_sources::kCoreFiles;
       // Another top (--core-top) is read from the file named after it, after the core's
@@ -220,6 +271,8 @@ void run(const Options& opt) {
       }
       spec.params = {"Lanes=" + std::to_string(opt.lanes)};
       spec.params.insert(spec.params.end(), kCoreCapacityParams.begin(), kCoreCapacityParams.end());
+      for (const hls::RtlParameter& p : core->rtl_parameters())
+        spec.params.push_back(std::string(p.name) + "=" + std::to_string(p.value));
     } else {
       throw Error("synth: unknown design '" + label + "'; expected " + design_names());
     }
@@ -454,6 +507,7 @@ void run(const Options& opt) {
                   "a lower bound)"},
                  {"lanes_requested", opt.lanes},
                  {"designs", designs},
+                 {"feature_costs", feature_costs(results)},
                  {"fit", fit},
                  {"delay_model",
                   {{"figures", delays},
@@ -483,7 +537,9 @@ void register_synth(CLI::App& app) {
   cmd->add_flag("--quiet,-q", opt->quiet, "no progress display on stderr");
   cmd->add_option("--designs", opt->designs,
                   "subset of " + design_names() +
-                      " (tem_arm, tem_armsK: the TEM with one or K Maxwell arms)")
+                      " (tem_X and core_X: the TEM and the whole core of an edge element with "
+                      "the series damper and/or Maxwell arms; their cost over tem and core is "
+                      "listed)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--core-top", opt->core_top, "top module of the core")->capture_default_str();
