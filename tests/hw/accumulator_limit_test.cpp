@@ -185,18 +185,19 @@ CoreImage stretched_arms_image() {
   return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWith4Arms);
 }
 
-// The bit-true run and the RTL run of one step agree on the flags, every particle word and
-// every arm extension; returns the bit-true result.
-StepResult expect_arm_step_matches(const CoreImage& img) {
+// The bit-true run and the RTL run of one step of the core built for the image's element
+// agree on the flags, every particle word and every arm extension; returns the bit-true
+// result.
+StepResult expect_step_matches(const CoreImage& img) {
   const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
-  auto bittrue = make_device("bittrue", 1, hls::kThreeElementWith4Arms);
-  auto rtl = make_device("rtl", 1, hls::kThreeElementWith4Arms);
+  auto bittrue = make_device("bittrue", 1, img.element);
+  auto rtl = make_device("rtl", 1, img.element);
   const StepResult golden = one_step(*bittrue, img, plate);
   const StepResult got = one_step(*rtl, img, plate);
   EXPECT_EQ(got.flags, golden.flags) << describe_status_flags(got.flags);
   EXPECT_EQ(got.state, golden.state);
   const int slots = static_cast<int>(img.edges.size());
-  for (int j = 0; j < 4; ++j) {
+  for (int j = 0; j < img.element.maxwell_arms; ++j) {
     EXPECT_EQ(rtl->read_arm_extensions(j, 0, slots), bittrue->read_arm_extensions(j, 0, slots))
         << "arm " << j;
   }
@@ -221,7 +222,7 @@ TEST(ArmForceLimit, FourArmsEachInsideTheWordWhoseSumIsBeyondItSaturateTheTensio
     for (int j = 0; j < 4; ++j) --img.materials[0].k2t[j].shift;
   }
   ASSERT_TRUE(reached) << "the arms' force never saturated the tension";
-  const StepResult golden = expect_arm_step_matches(img);
+  const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
   EXPECT_GT(golden.state[3], 0) << "the hub must move toward the leaves (+x)";
 }
@@ -230,9 +231,62 @@ TEST(ArmForceLimit, ArmsEachBeyondTheWordSaturateAndRtlAndBitTrueAgree) {
   CoreImage img = stretched_arms_image();
   // The largest gain the host allows (shift + the format change >= 0: no left shift).
   for (int j = 0; j < 4; ++j) img.materials[0].k2t[j].shift = -hls::CoefShifts<hls::HardwareFormat>::kK2t;
-  const StepResult golden = expect_arm_step_matches(img);
+  const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
   EXPECT_GT(golden.state[3], 0) << "the hub must move toward the leaves (+x)";
+}
+
+// One edge with the force-dependent series damper (seed 000 §3.3), its Voigt spring
+// stretched by a tenth of the edge so that the damper thins c2 (f between f1 and f2); heavy
+// particles keep the MPM inside its words. The damper core (SeriesDamper = 1).
+CoreImage stretched_damper_image() {
+  Model m = star(1, true);
+  m.mass.assign(m.mass.size(), 100.0);
+  EdgeMaterial& mat = m.materials[0];
+  mat.nonlinear = true;
+  mat.f1 = 1.0;   // N: the spring force k1 |d - L| is 10 N
+  mat.f2 = 20.0;
+  mat.c2_min = mat.c2 / 8.0;
+  State s = initial_state(m);
+  for (int k = 0; k < m.num_edges(); ++k) s.d[k] = 1.1 * m.edges[k].L;
+  return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWithDamper);
+}
+
+TEST(DamperLimit, AnEdgeInsideItsRangeRaisesNoFlagOnEitherModel) {
+  const StepResult golden = expect_step_matches(stretched_damper_image());
+  EXPECT_EQ(golden.flags, 0u) << describe_status_flags(golden.flags);
+  EXPECT_GT(golden.state[3], 0) << "the stretched edge pulls the hub toward the leaf (+x)";
+}
+
+// The slope of z raised one bit at a time until z leaves its word (c2 / c2_max below
+// 2^-64, a table the host refuses): the TEM flag on both models, and the same words.
+TEST(DamperLimit, ZBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = stretched_damper_image();
+  auto bittrue = make_device("bittrue", 1, hls::kThreeElementWithDamper);
+  const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
+  bool reached = false;
+  for (int raise = 0; raise < 60 && !reached; ++raise) {
+    const StepResult r = one_step(*bittrue, img, plate);
+    if (r.flags & hls::kStatusTemSaturated) {
+      reached = true;
+      break;
+    }
+    ASSERT_EQ(r.flags, 0u) << describe_status_flags(r.flags);
+    --img.materials[0].zk.shift;
+  }
+  ASSERT_TRUE(reached) << "z never left its word";
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+}
+
+// s = c / c_ref made tiny (s_base and s_c2 at their smallest): 1/s would need a coefficient
+// shift the packed format does not have; it is clamped and flagged on both models.
+TEST(DamperLimit, ACoefficientShiftOutOfRangeIsClampedAndFlaggedOnBothModels) {
+  CoreImage img = stretched_damper_image();
+  img.materials[0].s_base = hls::Coef{1, 47};
+  img.materials[0].s_c2 = hls::Coef{1, 47};
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
 }
 
 // `pairs` plate particles at z = 0.5 m, each hanging from a fixed anchor 0.25 m above by a
