@@ -212,10 +212,16 @@ module rheo_damper #(
   logic [5:0] nb19_q;
   logic signed [SW-1:0] s19_q;
   logic nonpos19_q;
+  // The leading one found in parallel (bit b leads iff no higher bit is set) and nb as an OR
+  // of the candidates' constants: a balanced LUT tree, not a chain of multiplexers
+  // (rheo_normalize does the same).
   logic [5:0] nb_w;
+  logic [SW-2:0] higher;  // higher[b]: a bit above b (below the sign) is set
   always_comb begin
+    higher[SW-2] = 1'b0;
+    for (int b = SW - 3; b >= 0; b--) higher[b] = higher[b+1] | s18_q[b+1];
     nb_w = '0;
-    for (int b = 0; b < SW - 1; b++) if (s18_q[b]) nb_w = 6'(b + 1);
+    for (int b = 0; b < SW - 1; b++) nb_w = nb_w | ((s18_q[b] & ~higher[b]) ? 6'(b + 1) : 6'd0);
   end
   always_ff @(posedge clk_i) begin
     nb19_q <= nb_w;
