@@ -301,16 +301,22 @@ inline DampedCoefs damper_coefs(std::int64_t ds, const MaterialCoefs& m, std::ui
   constexpr Rounding R = Fmt::kRounding;
   using S = CoefShifts<Fmt>;
   const std::uint32_t kFlag = kStatusTemSaturated;
-  // |d - L| beyond d_lo, clamped to the span: exact (W + 2 bits), never saturates
+  // |d - L| beyond d_lo, clamped to the span. d_lo and d_span as words are held quietly to
+  // W + 2 bits (beyond, the clamp gives the same result as the exact value would), so the
+  // excess is exact in W + 3 bits and is normalised as it is (never saturates).
+  const auto quiet = [](i128 v) {
+    const i128 hi = (i128(1) << (W + 1)) - 1;
+    return v > hi ? hi : (v < -hi - 1 ? -hi - 1 : v);
+  };
   const i128 abs_ds = ds < 0 ? -i128(ds) : i128(ds);
-  i128 excess = abs_ds - coef_word<R>(m.d_lo, Fmt::kFracX);
-  const i128 span = coef_word<R>(m.d_span, Fmt::kFracX);
+  i128 excess = abs_ds - quiet(coef_word<R>(m.d_lo, Fmt::kFracX));
+  const i128 span = quiet(coef_word<R>(m.d_span, Fmt::kFracX));
   if (excess < 0) excess = 0;
   if (excess > span) excess = span;
   // z = zk * excess as an unsigned kDamperZBits-bit word (its own width, not a state word):
   // z < 0 (a negative zk, which the host never writes) counts as 0; z beyond the word
   // (q < 2^-kDamperMaxZInt, below every word's resolution) is clamped and flagged.
-  const Operands<1> en = normalize<B, R>(saturate(excess, W, status, kFlag));
+  const Operands<1> en = normalize<B, R>(static_cast<std::int64_t>(excess));
   const i128 z_wide = shift_round<R>(i128(en.mant[0]) * m.zk.mant, m.zk.shift - en.shift);
   constexpr std::int64_t kZMax = (std::int64_t(1) << kDamperZBits) - 1;
   std::int64_t zc = 0;

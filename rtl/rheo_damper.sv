@@ -12,7 +12,7 @@
 // stage 29: the TEM's latency does not change. Mirrors rheo::hls::damper_coefs.
 // Register index t of each value (TEM stages; ds_i is stage 1, coef_i stage 0):
 //    2 |ds|, d_lo and d_span as words, s_base as a word
-//    3 |ds| - d_lo        4 clamped, saturated to W     7 normalised
+//    3 |ds| - d_lo        4 clamped (W + 4 bits)        7 normalised
 //    8 zk product         10 z                          11 z >= 0, table entries
 //   12 entry difference   13 times the fraction         14 qm = 2^-frac(z)
 //   15 s_c2 qm, beta qm, kt qm, ct qm                   16 mantissas of beta q, kt q, ct q
@@ -85,7 +85,7 @@ module rheo_damper #(
 
   // ---- stages 1-2: d_lo, d_span, s_base as words (coefficient mant 2^-(shift - frac)) ----
   // d_lo and d_span saturate quietly at W + 2 bits: beyond it the clamp below gives the
-  // same result as the exact value (hls::damper_coefs keeps them exact).
+  // same result as the exact value would (hls::damper_coefs holds them the same way).
   logic signed [W+1:0] dlo2, dspan2;
   logic signed [SW-1:0] sbase2;
   logic unused_clip_dlo, unused_clip_dspan, clip_sbase2;
@@ -103,11 +103,8 @@ module rheo_damper #(
   logic signed [W:0] abs2_q;
   logic signed [W+3:0] exc3_q;
   logic signed [W+1:0] dspan3_q;
-  logic signed [W-1:0] exc4_q;
-  logic clip4_q;
+  logic signed [W+3:0] exc4_q;
   logic signed [W+3:0] clamp_w;
-  localparam logic signed [W+3:0] WordMax = $signed({5'b00000, {(W-1){1'b1}}});
-  localparam logic signed [W+3:0] WordMin = $signed({5'b11111, {(W-1){1'b0}}});
   always_comb begin
     clamp_w = exc3_q < 0 ? '0 : exc3_q;
     if (clamp_w > (W+4)'(dspan3_q)) clamp_w = (W+4)'(dspan3_q);
@@ -116,16 +113,13 @@ module rheo_damper #(
     abs2_q <= ds_i[W-1] ? -((W+1)'(ds_i)) : (W+1)'(ds_i);
     exc3_q <= (W+4)'(abs2_q) - (W+4)'(dlo2);
     dspan3_q <= dspan2;
-    clip4_q <= clamp_w > WordMax || clamp_w < WordMin;
-    if (clamp_w > WordMax) exc4_q <= {1'b0, {(W-1){1'b1}}};
-    else if (clamp_w < WordMin) exc4_q <= {1'b1, {(W-1){1'b0}}};
-    else exc4_q <= clamp_w[W-1:0];
+    exc4_q <= clamp_w;  // exact: no saturation after the clamp (one carry chain in stage 4)
   end
 
   // ---- stages 5-10: z = zk * excess (ZW + 1 bits, signed, saturated) ----
   logic [B-1:0] en7;
   logic [EW-1:0] ee7;
-  rheo_normalize #(.N(1), .InW(W), .B(B), .ShiftW(EW)) u_norm_exc (
+  rheo_normalize #(.N(1), .InW(W+4), .B(B), .ShiftW(EW)) u_norm_exc (
     .clk_i(clk_i), .v_i(exc4_q), .mant_o(en7), .shift_o(ee7));
   logic [CoefW-1:0] zk7;
   rheo_delay #(.W(CoefW), .N(7)) u_zk_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[CZk]), .q_o(zk7));
@@ -133,12 +127,12 @@ module rheo_damper #(
   logic [6:0] zsb8_q;
   always_ff @(posedge clk_i) begin
     zprod8_q <= $signed(en7) * $signed(zk7[MantW-1:0]);
-    // shift = (stored - Bias) - e, biased by MaxLeft = Bias + W - (B - 1) (e <= W - B + 1)
-    zsb8_q <= 7'(zk7[CoefW-1:MantW]) + 7'(W - (B - 1)) - 7'(ee7);
+    // shift = (stored - Bias) - e, biased by MaxLeft = Bias + W + 4 - (B - 1) (e <= that - Bias)
+    zsb8_q <= 7'(zk7[CoefW-1:MantW]) + 7'(W + 4 - (B - 1)) - 7'(ee7);
   end
   logic signed [ZW:0] z10;
   logic zclip10;
-  rheo_round_shift #(.InW(PW), .OutW(ZW+1), .ShiftW(7), .MaxLeft(Bias + W - (B - 1))) u_z (
+  rheo_round_shift #(.InW(PW), .OutW(ZW+1), .ShiftW(7), .MaxLeft(Bias + W + 4 - (B - 1))) u_z (
     .clk_i(clk_i), .v_i(zprod8_q), .sb_i(zsb8_q), .out_o(z10), .clip_o(zclip10));
 
   // ---- stages 11-14: qm = 2^-frac(z) in Q1.16, n = floor(z) ----
@@ -316,7 +310,6 @@ module rheo_damper #(
   always_comb begin
     for (int s = 0; s <= Last; s++) flag_at[s] = 1'b0;
     flag_at[2] = clip_sbase2;
-    flag_at[4] = clip4_q;
     flag_at[11] = zsat11_q;
     flag_at[17] = clip_sq17;
     flag_at[18] = clip_s18_q;
