@@ -161,7 +161,12 @@ void encode_damper(const EdgeMaterial& m, double dt, double Lu, double x_limit,
   const double c = m.c1 + m.c2 + m.k1 * dt;
   const double s_base = (m.c1 + m.k1 * dt) / c;
   const double s_c2 = m.c2 / c;
-  mc.s_base = encode_coef(s_base, where + "s_base = (c1 + k1 dt) / (c1 + c2 + k1 dt)", 0);
+  // An s_base below s's resolution (2^-kDamperFracS) changes no bit of s: it is written as 0
+  // rather than refused as too small for the coefficient format (the s_min check below
+  // then judges the range).
+  mc.s_base = s_base < std::ldexp(1.0, -hls::kDamperFracS - 2)
+                  ? hls::Coef{}
+                  : encode_coef(s_base, where + "s_base = (c1 + k1 dt) / (c1 + c2 + k1 dt)", 0);
   mc.s_c2 = encode_coef(s_c2, where + "s_c2 = c2 / (c1 + c2 + k1 dt)", 0);
   double d_lo = 0.0, d_span = 0.0, zk = 0.0, q_min = 1.0;
   if (m.nonlinear && m.k1 > 0.0 && m.f2 > m.f1) {
