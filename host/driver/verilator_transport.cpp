@@ -191,17 +191,8 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
     if (o.lanes != 1 || o.element != hls::kThreeElement)
       throw Error("RTL core with random power-up state: built for 1 lane without the arm");
     impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
-  } else if (o.element.series_damper) {
-    if (o.lanes != 1)
-      throw Error("RTL core with edge element " + std::string(o.element.name) +
-                  ": lanes = " + std::to_string(o.lanes) + ": built for 1 lane only");
-    if (o.element == hls::kThreeElementWithDamper)
-      impl_ = std::make_unique<Harness<Vrheo_core_damper_l1>>(o);
-    else if (o.element == hls::kThreeElementWithDamper8Arms)
-      impl_ = std::make_unique<Harness<Vrheo_core_damper_arms8_l1>>(o);
-    else
-      throw Error("RTL core with edge element " + std::string(o.element.name) + ": not built");
-  } else if (o.element.has_maxwell_arm()) {
+  } else if (o.element != hls::kThreeElement) {
+    // The cores with arms or the damper are built for one lane (rtl/CMakeLists.txt).
     if (o.lanes != 1)
       throw Error("RTL core with edge element " + std::string(o.element.name) +
                   ": lanes = " + std::to_string(o.lanes) + ": built for 1 lane only");
@@ -211,6 +202,10 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
       impl_ = std::make_unique<Harness<Vrheo_core_arms4_l1>>(o);
     else if (o.element == hls::kThreeElementWith8Arms)
       impl_ = std::make_unique<Harness<Vrheo_core_arms8_l1>>(o);
+    else if (o.element == hls::kThreeElementWithDamper)
+      impl_ = std::make_unique<Harness<Vrheo_core_damper_l1>>(o);
+    else if (o.element == hls::kThreeElementWithDamper8Arms)
+      impl_ = std::make_unique<Harness<Vrheo_core_damper_arms8_l1>>(o);
     else
       throw Error("RTL core with edge element " + std::string(o.element.name) + ": not built");
   } else if (o.lanes == 1)

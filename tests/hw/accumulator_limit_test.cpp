@@ -204,23 +204,31 @@ StepResult expect_step_matches(const CoreImage& img) {
   return golden;
 }
 
+// Steps the bit-true core of the image's element and, while a step raises no flag, applies
+// `raise` to the image (at most `tries` times); true once a step raises the TEM flag. A step
+// that raises another flag first fails the test.
+template <class Raise>
+bool raise_until_tem_flag(CoreImage& img, int tries, Raise raise) {
+  auto bittrue = make_device("bittrue", 1, img.element);
+  const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
+  for (int i = 0; i < tries; ++i) {
+    const StepResult r = one_step(*bittrue, img, plate);
+    if (r.flags & hls::kStatusTemSaturated) return true;
+    EXPECT_EQ(r.flags, 0u) << describe_status_flags(r.flags);
+    if (r.flags != 0u) return false;
+    raise(img);
+  }
+  return false;
+}
+
 TEST(ArmForceLimit, FourArmsEachInsideTheWordWhoseSumIsBeyondItSaturateTheTensionOnce) {
   CoreImage img = stretched_arms_image();
-  auto bittrue = make_device("bittrue", 1, hls::kThreeElementWith4Arms);
-  const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
   // Raise all four arm springs together, one bit at a time, until the tension saturates.
   // The step before, the four arms (and the Voigt part) summed to less than the word, so
   // each arm alone stays below half the word after the last doubling: only the sum clips.
-  bool reached = false;
-  for (int raise = 0; raise < 48 && !reached; ++raise) {
-    const StepResult r = one_step(*bittrue, img, plate);
-    if (r.flags & hls::kStatusTemSaturated) {
-      reached = true;
-      break;
-    }
-    ASSERT_EQ(r.flags, 0u) << describe_status_flags(r.flags);
-    for (int j = 0; j < 4; ++j) --img.materials[0].k2t[j].shift;
-  }
+  const bool reached = raise_until_tem_flag(img, 48, [](CoreImage& i) {
+    for (int j = 0; j < 4; ++j) --i.materials[0].k2t[j].shift;
+  });
   ASSERT_TRUE(reached) << "the arms' force never saturated the tension";
   const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
@@ -262,18 +270,8 @@ TEST(DamperLimit, AnEdgeInsideItsRangeRaisesNoFlagOnEitherModel) {
 // 2^-64, a table the host refuses): the TEM flag on both models, and the same words.
 TEST(DamperLimit, ZBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
   CoreImage img = stretched_damper_image();
-  auto bittrue = make_device("bittrue", 1, hls::kThreeElementWithDamper);
-  const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
-  bool reached = false;
-  for (int raise = 0; raise < 60 && !reached; ++raise) {
-    const StepResult r = one_step(*bittrue, img, plate);
-    if (r.flags & hls::kStatusTemSaturated) {
-      reached = true;
-      break;
-    }
-    ASSERT_EQ(r.flags, 0u) << describe_status_flags(r.flags);
-    --img.materials[0].zk.shift;
-  }
+  const bool reached =
+      raise_until_tem_flag(img, 60, [](CoreImage& i) { --i.materials[0].zk.shift; });
   ASSERT_TRUE(reached) << "z never left its word";
   const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);

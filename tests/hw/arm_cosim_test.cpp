@@ -16,6 +16,7 @@
 #include "sim/relaxation_spectrum.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
+#include "tests/hw/cosim_effect.hpp"
 
 namespace rheo::driver {
 namespace {
@@ -85,34 +86,18 @@ CosimResult expect_arm_cosim(const Scenario& scenario, const hls::EdgeElement& e
   return r;
 }
 
-// The largest difference of the cosimulation's fixed-point force from a double reference
-// without any arm (same protocol), and the peak force: the arms' contribution.
-std::pair<double, double> arm_effect(const Scenario& scenario, const CosimResult& r) {
-  const Model model = scenario.build_model();
-  Simulator no_arm(driver::hardware_model(model, nullptr, hls::kThreeElement), scenario.options);
-  double max_diff = 0.0, max_force = 0.0;
-  for (long n = 0; n < kArmRunSteps; ++n) {
-    const double t = double(n + 1) * scenario.options.dt;
-    const double f =
-        no_arm.step(model.height - scenario.protocol.displacement_mm(t) * 1e-3).plate_force_N;
-    max_diff = std::max(max_diff, std::fabs(r.force_fixed_N[n] - f));
-    max_force = std::max(max_force, std::fabs(r.force_fixed_N[n]));
-  }
-  return {max_diff, max_force};
+// The arms' effect on the force: against a double reference without any arm.
+cosim_test::ForceEffect arm_effect(const Scenario& scenario, const CosimResult& r) {
+  return cosim_test::force_effect(
+      scenario, driver::hardware_model(scenario.build_model(), nullptr, hls::kThreeElement), r);
 }
 
 // The arms matter (the force differs from a model without them by far more than the
 // quantisation bound); prints and records the figures under `label`.
 void expect_arms_matter(const char* label, const Scenario& scenario, const CosimResult& r) {
-  const auto [max_diff, max_force] = arm_effect(scenario, r);
-  EXPECT_GE(max_diff, kMinArmEffectRel * max_force);
-  std::printf(
-      "%s cosim: %ld steps, max_pos_err_rel %.3g, max_force_err_rel %.3g, arm effect %.3g N "
-      "of peak %.3g N, cycles/step %.1f (formula %ld)\n",
-      label, r.steps, r.max_pos_err_rel, r.max_force_err_rel, max_diff, max_force,
-      r.cycles_per_step_measured, r.cycles_per_step_formula);
-  ::testing::Test::RecordProperty("max_pos_err_rel", std::to_string(r.max_pos_err_rel));
-  ::testing::Test::RecordProperty("max_force_err_rel", std::to_string(r.max_force_err_rel));
+  const cosim_test::ForceEffect e = arm_effect(scenario, r);
+  EXPECT_GE(e.max_diff_N, kMinArmEffectRel * e.peak_N);
+  cosim_test::report(label, "arm", r, e);
 }
 
 TEST(ArmCosim, Block5WithFourArmSpectrumIsBitExactOnTheFourArmCoreAndTracksTheDoubleReference) {
@@ -144,9 +129,10 @@ TEST(ArmCosim, Block5WithThePowerLawSpectrumIsBitExactOnTheEightArmCore) {
 TEST(ArmCosim, Block5WithMaxwellArmIsBitExactAndTracksTheDoubleReference) {
   const Scenario scenario = block5_with_arm();
   const CosimResult r = expect_arm_cosim(scenario, hls::kThreeElementWithArm);
-  const auto [max_diff, max_force] = arm_effect(scenario, r);
-  EXPECT_GE(max_diff, kMinArmEffectRel * max_force);
-  std::printf("arm effect: max |F_arm - F_no_arm| = %.3g N of peak %.3g N\n", max_diff, max_force);
+  const cosim_test::ForceEffect e = arm_effect(scenario, r);
+  EXPECT_GE(e.max_diff_N, kMinArmEffectRel * e.peak_N);
+  std::printf("arm effect: max |F_arm - F_no_arm| = %.3g N of peak %.3g N\n", e.max_diff_N,
+              e.peak_N);
   ::testing::Test::RecordProperty("max_pos_err_rel", std::to_string(r.max_pos_err_rel));
   ::testing::Test::RecordProperty("max_force_err_rel", std::to_string(r.max_force_err_rel));
   std::printf(

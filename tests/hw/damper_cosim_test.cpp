@@ -14,6 +14,7 @@
 #include "sim/relaxation_spectrum.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
+#include "tests/hw/cosim_effect.hpp"
 
 namespace rheo::driver {
 namespace {
@@ -81,23 +82,9 @@ void expect_damper_cosim(const char* label, const Scenario& scenario,
   // the damper's effect: against the double model with c2 throughout
   Model linear = scenario.build_model();
   for (EdgeMaterial& m : linear.materials) m.nonlinear = false;
-  Simulator sim(linear, scenario.options);
-  double max_diff = 0.0, max_force = 0.0;
-  for (long n = 0; n < kRunSteps; ++n) {
-    const double t = double(n + 1) * scenario.options.dt;
-    const double f =
-        sim.step(linear.height - scenario.protocol.displacement_mm(t) * 1e-3).plate_force_N;
-    max_diff = std::max(max_diff, std::fabs(r.force_fixed_N[n] - f));
-    max_force = std::max(max_force, std::fabs(r.force_fixed_N[n]));
-  }
-  EXPECT_GE(max_diff, kMinDamperEffectRel * max_force);
-  std::printf(
-      "%s cosim: %ld steps, max_pos_err_rel %.3g, max_force_err_rel %.3g, damper effect %.3g N "
-      "of peak %.3g N, cycles/step %.1f (formula %ld)\n",
-      label, r.steps, r.max_pos_err_rel, r.max_force_err_rel, max_diff, max_force,
-      r.cycles_per_step_measured, r.cycles_per_step_formula);
-  ::testing::Test::RecordProperty("max_pos_err_rel", std::to_string(r.max_pos_err_rel));
-  ::testing::Test::RecordProperty("max_force_err_rel", std::to_string(r.max_force_err_rel));
+  const cosim_test::ForceEffect e = cosim_test::force_effect(scenario, linear, r);
+  EXPECT_GE(e.max_diff_N, kMinDamperEffectRel * e.peak_N);
+  cosim_test::report(label, "damper", r, e);
 }
 
 TEST(DamperCosim, Block5WithTheNonlinearDamperIsBitExactOnTheDamperCore) {
