@@ -1,7 +1,7 @@
 // Material table of rheo_core: per material the packed TEM coefficients and flags (and,
-// with MaxwellArms = K, each arm's gamma_j and k2t_j). Every lane reads it in the same clock, so it
-// is a small LUT RAM with one registered read per lane (the edge pass's stage 2), written
-// by the host only while idle. With SeriesDamper = 1 the damper's six coefficients
+// with MaxwellArms = K, each arm's gamma_j and k2t_j). Every lane reads it in the same clock, so
+// each coefficient is a small LUT RAM with one registered read per lane (the edge pass's
+// stage 2), written by the host only while idle. With SeriesDamper = 1 the damper's six coefficients
 // (region MaterialDamper) follow the base ones.
 module rheo_core_mem_mat #(
   parameter int Lanes = 1,
@@ -30,56 +30,58 @@ module rheo_core_mem_mat #(
   output logic [Lanes*NumCoef*CoefW-1:0] coef_o,  // lane j: {arm K-1 .. arm 0, damper, base}
   output logic [Lanes*MFlagsW-1:0]      flags_o
 );
-  logic [CoefW-1:0] mat_coef [MaxMaterials][NumBase];
+  // One memory per coefficient (a column of the table): each is a MaxMaterials-word LUT RAM
+  // with one write port and one read port per lane. A single two-dimensional array written
+  // at a variable field would be one memory with NumCoef * Lanes read ports, which Yosys
+  // maps by expanding every port over every word (it ran out of memory on the core with the
+  // damper and eight arms).
   logic [MFlagsW-1:0] mat_flags [MaxMaterials];
-  logic [Lanes*NumBase*CoefW-1:0] coef_q;
+  logic [CoefW-1:0] coef_q [Lanes][NumCoef];
 
   logic entry_ok;
   assign entry_ok = index_i < IdxCountW'(MaxMaterials);
 
-  always_ff @(posedge clk_i) begin
-    if (host_we_i && region_i == RegionW'(rheo_consts_pkg::RegionMaterial) && entry_ok) begin
-      if (field_i < FieldW'(NumMat)) mat_coef[MIdxW'(index_i)][32'(field_i)] <= wdata_i;
-      else mat_flags[MIdxW'(index_i)] <= wdata_i[MFlagsW-1:0];
-    end
-    if (SeriesDamper != 0 && host_we_i &&
-        region_i == RegionW'(rheo_consts_pkg::RegionMaterialDamper) && entry_ok &&
-        field_i < FieldW'(rheo_consts_pkg::DamperCoefs))
-      mat_coef[MIdxW'(index_i)][32'(field_i) + NumMat] <= wdata_i;
-  end
+  // Coefficient c's region and field: the base six (region Material, fields 0..5), the
+  // damper's six (region MaterialDamper), arm k's two (region MaterialArm + 2 k).
+  function automatic int coef_region(input int c);
+    if (c < NumMat) coef_region = rheo_consts_pkg::RegionMaterial;
+    else if (c < NumBase) coef_region = rheo_consts_pkg::RegionMaterialDamper;
+    else coef_region = rheo_consts_pkg::RegionMaterialArm + 2 * ((c - NumBase) / NumArm);
+  endfunction
+  function automatic int coef_field(input int c);
+    if (c < NumMat) coef_field = c;
+    else if (c < NumBase) coef_field = c - NumMat;
+    else coef_field = (c - NumBase) % NumArm;
+  endfunction
 
-  always_ff @(posedge clk_i) begin
-    for (int j = 0; j < Lanes; j++) begin
-      for (int c = 0; c < NumBase; c++)
-        coef_q[(j*NumBase+c)*CoefW +: CoefW] <= mat_coef[mat_i[j*MIdxW +: MIdxW]][c];
-      flags_o[j*MFlagsW +: MFlagsW] <= mat_flags[mat_i[j*MIdxW +: MIdxW]];
+  for (genvar c = 0; c < NumCoef; c++) begin : g_col
+    logic [CoefW-1:0] col [MaxMaterials];
+    logic we;
+    // an arm's field is one bit wide in its region (as the frame format writes it)
+    if (c >= NumBase) begin : g_arm_field
+      assign we = host_we_i && entry_ok && region_i == RegionW'(coef_region(c)) &&
+                  field_i[0] == 1'(coef_field(c));
+    end else begin : g_field
+      assign we = host_we_i && entry_ok && region_i == RegionW'(coef_region(c)) &&
+                  field_i == FieldW'(coef_field(c));
     end
-  end
-
-  if (MaxwellArms > 0) begin : g_arm
-    localparam int NumArms = NumArm * MaxwellArms;  // coefficients of all arms
-    // Arm k's coefficients at [k * NumArm + field]; region MaterialArm + 2 k writes them.
-    logic [CoefW-1:0] mat_arm [MaxMaterials][NumArms];
-    logic [Lanes*NumArms*CoefW-1:0] arm_q;
     always_ff @(posedge clk_i) begin
-      for (int k = 0; k < MaxwellArms; k++) begin
-        if (host_we_i && region_i == RegionW'(rheo_consts_pkg::RegionMaterialArm + 2 * k) &&
-            entry_ok)
-          mat_arm[MIdxW'(index_i)][k * NumArm + 32'(field_i[0])] <= wdata_i;
-      end
-      for (int j = 0; j < Lanes; j++) begin
-        for (int c = 0; c < NumArms; c++)
-          arm_q[(j*NumArms+c)*CoefW +: CoefW] <= mat_arm[mat_i[j*MIdxW +: MIdxW]][c];
-      end
+      if (we) col[MIdxW'(index_i)] <= wdata_i;
+      for (int j = 0; j < Lanes; j++) coef_q[j][c] <= col[mat_i[j*MIdxW +: MIdxW]];
     end
-    for (genvar j = 0; j < Lanes; j++) begin : g_lane
-      assign coef_o[j*NumCoef*CoefW +: NumCoef*CoefW] =
-          {arm_q[j*NumArms*CoefW +: NumArms*CoefW], coef_q[j*NumBase*CoefW +: NumBase*CoefW]};
-    end
-  end else begin : g_no_arm
-    for (genvar j = 0; j < Lanes; j++) begin : g_lane
-      assign coef_o[j*NumCoef*CoefW +: NumCoef*CoefW] =
-          coef_q[j*NumBase*CoefW +: NumBase*CoefW];
+  end
+
+  always_ff @(posedge clk_i) begin
+    if (host_we_i && region_i == RegionW'(rheo_consts_pkg::RegionMaterial) && entry_ok &&
+        field_i >= FieldW'(NumMat))
+      mat_flags[MIdxW'(index_i)] <= wdata_i[MFlagsW-1:0];
+    for (int j = 0; j < Lanes; j++)
+      flags_o[j*MFlagsW +: MFlagsW] <= mat_flags[mat_i[j*MIdxW +: MIdxW]];
+  end
+
+  for (genvar j = 0; j < Lanes; j++) begin : g_lane
+    for (genvar c = 0; c < NumCoef; c++) begin : g_out
+      assign coef_o[(j*NumCoef+c)*CoefW +: CoefW] = coef_q[j][c];
     end
   end
 endmodule
