@@ -116,6 +116,16 @@ inline constexpr int kDamperSBits = kDamperFracS + 3;  // s and its terms: signe
 inline constexpr int kRecipIndexBits = 8;  // reciprocal seed: 256 segments of m in [1, 2)
 inline constexpr int kRecipSeedBits = 16;  // seed in Q1.16
 
+// Strain hardening (rheo::evaluate_edge): the Voigt spring's stiffness is k1 g with
+// g = 1 + h, h = H e^2 and e = (l - L) / L (the reference's l0 is L, the edge's length at
+// construction; the host checks that they are equal). The core computes 1/L with the
+// reciprocal above, h as an unsigned word of its own, and scales the edge's coefficients by
+// g and h over s = c / c_ref, which grows with h (docs/hardware.md, "Strain hardening").
+inline constexpr int kHardFracH = 28;  // fractional bits of h
+inline constexpr int kHardHBits = 40;  // h < 2^12: beyond, clamped and flagged
+// s with hardening: s = s_base + s_c2 q + s_k h < 2 + 2^12 (s_k <= 1), signed
+inline constexpr int kHardSBits = kDamperFracS + 14;
+
 // 2^-(i / 64) in Q1.16, i = 0..64 (the interpolation reads entries i and i + 1).
 inline std::uint32_t exp2_table(int index) {
   return static_cast<std::uint32_t>(

@@ -20,6 +20,11 @@
 //     T += sum_j k2t_j * m_j;  m_j <- m_j + dm_j   (k2t_j: the arm's spring in force units
 //                                                    per length unit)
 //     (the arms' products need only m_j, so the RTL computes them early in the pipeline)
+//   with Damper (RTL parameter SeriesDamper), the force-dependent series damper: alpha, beta,
+//   kt, ct scaled per edge by 1/s and q/s (damper_coefs; docs/hardware.md);
+//   with Hardening, strain hardening: k1 (1 + hk e^2), e = (l - L) / L, the coefficients
+//   scaled by g/s, q/s, g q/s and a fifth one, cth, on ldot (hardened_coefs; bit-true only
+//   so far, no RTL core carries it)
 //   MPM, per particle i, one per clock, after the edge pass has summed its edge forces
 //   (exact wide sums, saturated once when narrowed):
 //     f = sum of +F_k (i = s) and -F_k (i = e)
@@ -216,6 +221,13 @@ struct MaterialCoefs {
   Coef zk;            // z per X-format LSB of |d - L| - d_lo
   Coef s_base, s_c2;  // (c1 + k1 dt) / c_ref and c2_max / c_ref
   Coef ka;            // the arms' k (their springs' lead on ldot), F per P
+  // Strain hardening (read only by a kernel with Hardening = true; region
+  // MaterialHardening): per edge h = hk e^2, e = (l - L) / L, and (hardened_coefs)
+  //   s = s_base + s_c2 q + s_k h (without the damper q = 1 and s_base + s_c2 = 1),
+  //   alpha g / s, beta q / s, kt g q / s, ct q / s, and cth = ct_h h q / s on ldot.
+  Coef hk;    // the hardening coefficient H (per strain squared)
+  Coef s_k;   // k1 dt / c_ref: the stiffness's share of s
+  Coef ct_h;  // k1 c2 / c_ref, F per P: the hardened stiffness's lead in T's ldot term
 };
 
 struct TemIn {
@@ -250,6 +262,7 @@ inline i128 coef_word(const Coef& c, int frac) {
 // (the host keeps every reachable shift in range).
 struct DampedCoefs {
   Coef alpha, beta, kt, ct;
+  Coef cth;  // with strain hardening: the hardened stiffness's share of the ldot term
 };
 
 // Shift limits of a damped coefficient: the packed field, and shift + extra >= 0 (the
@@ -294,22 +307,26 @@ inline std::int64_t recip_mantissa(std::int64_t mr) {
   return y > one ? one : y;
 }
 
+// q = 2^-z of the damper for the spring's extension a = |d - L| (times g with strain
+// hardening), a >= 0 and exact: qm in Q1.(B-2), in [1/2, 1], and q = qm 2^-(B-2) 2^-n.
+struct DamperQ {
+  std::int64_t qm;
+  int n;
+};
+
 template <class Fmt>
-inline DampedCoefs damper_coefs(std::int64_t ds, const MaterialCoefs& m, std::uint32_t* status) {
+inline DamperQ damper_q(i128 a, const MaterialCoefs& m, std::uint32_t* status) {
   constexpr int W = Fmt::kWidth;
   constexpr int B = Fmt::kOperandBits;
   constexpr Rounding R = Fmt::kRounding;
-  using S = CoefShifts<Fmt>;
-  const std::uint32_t kFlag = kStatusTemSaturated;
-  // |d - L| beyond d_lo, clamped to the span. d_lo and d_span as words are held quietly to
+  // a beyond d_lo, clamped to the span. d_lo and d_span as words are held quietly to
   // W + 2 bits (beyond, the clamp gives the same result as the exact value would), so the
   // excess is exact in W + 3 bits and is normalised as it is (never saturates).
   const auto quiet = [](i128 v) {
     const i128 hi = (i128(1) << (W + 1)) - 1;
     return v > hi ? hi : (v < -hi - 1 ? -hi - 1 : v);
   };
-  const i128 abs_ds = ds < 0 ? -i128(ds) : i128(ds);
-  i128 excess = abs_ds - quiet(coef_word<R>(m.d_lo, Fmt::kFracX));
+  i128 excess = a - quiet(coef_word<R>(m.d_lo, Fmt::kFracX));
   const i128 span = quiet(coef_word<R>(m.d_span, Fmt::kFracX));
   if (excess < 0) excess = 0;
   if (excess > span) excess = span;
@@ -321,32 +338,57 @@ inline DampedCoefs damper_coefs(std::int64_t ds, const MaterialCoefs& m, std::ui
   constexpr std::int64_t kZMax = (std::int64_t(1) << kDamperZBits) - 1;
   std::int64_t zc = 0;
   if (z_wide > kZMax) {
-    *status |= kFlag;
+    *status |= kStatusTemSaturated;
     zc = kZMax;
   } else if (z_wide > 0) {
     zc = static_cast<std::int64_t>(z_wide);
   }
-  // q = 2^-z: qm in Q1.(B-2), in [1/2, 1], times 2^-n
-  const int n = static_cast<int>(zc >> kDamperFracZ);
-  const std::int64_t qm = exp2_neg_frac<B, R>(zc);
-  // s = s_base + s_c2 q with kDamperFracS fractional bits, each term and the sum saturated
-  // to kDamperSBits (the host keeps s <= 1; wider words would only carry invalid tables)
+  return {exp2_neg_frac<B, R>(zc), static_cast<int>(zc >> kDamperFracZ)};
+}
+
+// s_base + s_c2 q with kDamperFracS fractional bits, each term and the sum saturated to
+// SBits (the host keeps s in range; wider words would only carry invalid tables).
+template <class Fmt, int SBits>
+inline i128 damper_s(const DamperQ& q, const MaterialCoefs& m, std::uint32_t* status) {
+  constexpr int B = Fmt::kOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
+  const std::uint32_t kFlag = kStatusTemSaturated;
   const std::int64_t s_term_base =
-      saturate(coef_word<R>(m.s_base, kDamperFracS), kDamperSBits, status, kFlag);
+      saturate(coef_word<R>(m.s_base, kDamperFracS), SBits, status, kFlag);
   const std::int64_t s_term_q = saturate(
-      shift_round<R>(i128(qm) * m.s_c2.mant, m.s_c2.shift + (B - 2) + n - kDamperFracS),
-      kDamperSBits, status, kFlag);
-  const i128 s = saturate(i128(s_term_base) + s_term_q, kDamperSBits, status, kFlag);
-  // 1/s = y 2^-(B-2) 2^(kDamperFracS + 1 - nb)
-  std::int64_t y = std::int64_t(1) << (B - 2);
-  int nb = kDamperFracS + 1;
+      shift_round<R>(i128(q.qm) * m.s_c2.mant, m.s_c2.shift + (B - 2) + q.n - kDamperFracS),
+      SBits, status, kFlag);
+  return saturate(i128(s_term_base) + s_term_q, SBits, status, kFlag);
+}
+
+// 1/s for s with kDamperFracS fractional bits: y in Q1.(B-2) (at most 1) and s's bit length
+// nb, 1/s = y 2^-(B-2) 2^(kDamperFracS + 1 - nb). s <= 0 (which the host never lets happen)
+// is flagged and counts as 1.
+struct RecipS {
+  std::int64_t y;
+  int nb;
+};
+
+template <class Fmt>
+inline RecipS recip_s(i128 s, std::uint32_t* status) {
+  constexpr int B = Fmt::kOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
   if (s <= 0) {
-    *status |= kFlag;  // the host keeps s >= 2^-kDamperMinSBits
-  } else {
-    nb = bit_length(s);
-    // m in [1, 2) as Q1.(B-2); rounding up to 2 is held at the largest operand
-    y = recip_mantissa<B, R>(to_operand<B, R>(s, nb - (B - 1)));
+    *status |= kStatusTemSaturated;
+    return {std::int64_t(1) << (B - 2), kDamperFracS + 1};
   }
+  const int nb = bit_length(s);
+  // m in [1, 2) as Q1.(B-2); rounding up to 2 is held at the largest operand
+  return {recip_mantissa<B, R>(to_operand<B, R>(s, nb - (B - 1))), nb};
+}
+
+template <class Fmt>
+inline DampedCoefs damper_coefs(std::int64_t ds, const MaterialCoefs& m, std::uint32_t* status) {
+  constexpr int B = Fmt::kOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
+  using S = CoefShifts<Fmt>;
+  const DamperQ q = damper_q<Fmt>(ds < 0 ? -i128(ds) : i128(ds), m, status);
+  const RecipS rs = recip_s<Fmt>(damper_s<Fmt, kDamperSBits>(q, m, status), status);
   // c * f, f = fm 2^-(B-2) 2^-dshift with fm in [0, 2^(B-2)]: the mantissa cannot grow
   const auto scale = [&](const Coef& c, std::int64_t fm, int dshift) {
     Coef out;
@@ -354,12 +396,12 @@ inline DampedCoefs damper_coefs(std::int64_t ds, const MaterialCoefs& m, std::ui
     out.shift = c.shift + dshift;
     return out;
   };
-  const int rshift = nb - kDamperFracS - 1;  // 1/s's exponent as a shift
+  const int rshift = rs.nb - kDamperFracS - 1;  // 1/s's exponent as a shift
   DampedCoefs out;
-  out.alpha = scale(m.alpha, y, rshift);
-  out.beta = scale(scale(m.beta, qm, n), y, rshift);
-  out.kt = scale(scale(m.kt, qm, n), y, rshift);
-  out.ct = scale(scale(m.ct, qm, n), y, rshift);
+  out.alpha = scale(m.alpha, rs.y, rshift);
+  out.beta = scale(scale(m.beta, q.qm, q.n), rs.y, rshift);
+  out.kt = scale(scale(m.kt, q.qm, q.n), rs.y, rshift);
+  out.ct = scale(scale(m.ct, q.qm, q.n), rs.y, rshift);
   out.alpha.shift = damped_shift(out.alpha.shift, S::kAlpha, status);
   out.beta.shift = damped_shift(out.beta.shift, S::kBeta, status);
   out.kt.shift = damped_shift(out.kt.shift, S::kKt, status);
@@ -367,11 +409,144 @@ inline DampedCoefs damper_coefs(std::int64_t ds, const MaterialCoefs& m, std::ui
   return out;
 }
 
+// ---- strain hardening -----------------------------------------------------------------
+
+// A positive factor f = m 2^-(B-2) 2^e with m in [2^(B-3), 2^(B-2)] (f in [1/2, 1] 2^e), or
+// m = 0 (f = 0).
+struct Factor {
+  std::int64_t m = 0;
+  int e = 0;
+};
+
+// The factor of a word >= 0 with `frac` fractional bits.
+template <int B, Rounding R>
+inline Factor factor_of(i128 word, int frac) {
+  if (word <= 0) return {};
+  const int n = bit_length(word);
+  return {static_cast<std::int64_t>(shift_round<R>(word, n - (B - 2))), n - frac};
+}
+
+// a b, renormalised by at most one bit (the product of the mantissas is in [1/4, 1]).
+template <int B, Rounding R>
+inline Factor factor_mul(const Factor& a, const Factor& b) {
+  if (a.m == 0 || b.m == 0) return {};
+  const i128 p = i128(a.m) * b.m;
+  if (p < (i128(1) << (2 * B - 5)))
+    return {static_cast<std::int64_t>(shift_round<R>(p, B - 3)), a.e + b.e - 1};
+  return {static_cast<std::int64_t>(shift_round<R>(p, B - 2)), a.e + b.e};
+}
+
+// h = hk e^2 with e = (l - L) / L, as an unsigned word with kHardFracH fractional bits.
+// 1/L: L normalised to m 2^(nl-1), m in [1, 2), and the reciprocal of the damper. e and e^2
+// are rounded to B-bit operands. L <= 0 (the host never writes one) and h beyond its word
+// are flagged (h is then 0 or its largest value).
+template <class Fmt>
+inline std::int64_t hardening_h(std::int64_t l, std::int64_t L, const Coef& hk,
+                                std::uint32_t* status) {
+  constexpr int B = Fmt::kOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
+  constexpr std::int64_t kHMax = (std::int64_t(1) << kHardHBits) - 1;
+  if (L <= 0) {
+    *status |= kStatusTemSaturated;
+    return 0;
+  }
+  const int nl = bit_length(L);
+  const std::int64_t y_l = recip_mantissa<B, R>(to_operand<B, R>(L, nl - (B - 1)));
+  const Operands<1> dn = normalize<B, R>(l - L);  // l, L: W-bit words
+  // e = dn y_l 2^(dn.shift - (B-2) - (nl-1))
+  const Operands<1> en = normalize<B, R>(static_cast<std::int64_t>(i128(dn.mant[0]) * y_l));
+  const int ee = en.shift + dn.shift - (B - 2) - (nl - 1);
+  // e^2 = e2 2^(e2.shift + 2 ee); h = e2 hk with kHardFracH fractional bits
+  const Operands<1> e2 = normalize<B, R>(static_cast<std::int64_t>(i128(en.mant[0]) * en.mant[0]));
+  // a right shift beyond 2B rounds every product (< 2^(2B-2)) to 0, a left shift beyond the
+  // word overflows every non-zero one: the shift is held to that range
+  const int sh = std::clamp(hk.shift - e2.shift - 2 * ee - kHardFracH, -kHardHBits, 2 * B);
+  const i128 h = shift_round<R>(i128(e2.mant[0]) * hk.mant, sh);
+  if (h <= 0) return 0;  // (a negative hk, which the host never writes, counts as 0)
+  if (h > kHMax) {
+    *status |= kStatusTemSaturated;
+    return kHMax;
+  }
+  return static_cast<std::int64_t>(h);
+}
+
+// A scaled coefficient c f: its mantissa cannot grow (f's mantissa is at most 1). Its shift
+// is held to the packed format: a coefficient too large for it is clamped and flagged; one
+// too small gives up mantissa bits instead (cth falls to 0 with h, which is no error).
+template <class Fmt>
+inline Coef scaled_coef(const Coef& c, const Factor& f, int extra, std::uint32_t* status) {
+  constexpr int B = Fmt::kOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
+  const int lo = extra > kCoefShiftBias ? -kCoefShiftBias : -extra;
+  const int hi = (1 << kCoefShiftBits) - 1 - kCoefShiftBias;
+  Coef out;
+  int shift = c.shift - f.e;
+  if (f.m == 0 || c.mant == 0) return {0, hi};
+  if (shift < lo) {
+    *status |= kStatusTemSaturated;
+    shift = lo;
+  }
+  // the product, rounded once, at shift <= hi
+  const int drop = std::min(std::max(shift - hi, 0), 2 * B);
+  out.mant = static_cast<std::int32_t>(shift_round<R>(i128(c.mant) * f.m, B - 2 + drop));
+  out.shift = shift - drop;
+  return out;
+}
+
+// The coefficients of this edge with strain hardening (and, with Damper, the force-dependent
+// series damper, whose force is the hardened spring's: z follows g |d - L|):
+//   g = 1 + h, q = 2^-z, s = s_base + s_c2 q + s_k h (1 + s_k h without the damper),
+//   alpha g / s, beta q / s, kt g q / s, ct q / s, cth = ct_h h q / s.
+// Each is the material's coefficient times one factor (g/s, q/s, g q/s, h q/s), each factor a
+// product of normalised factors.
+template <class Fmt, bool Damper>
+inline DampedCoefs hardened_coefs(std::int64_t ds, std::int64_t l, std::int64_t L,
+                                  const MaterialCoefs& m, std::uint32_t* status) {
+  constexpr int W = Fmt::kWidth;
+  constexpr int B = Fmt::kOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
+  using S = CoefShifts<Fmt>;
+  const std::uint32_t kFlag = kStatusTemSaturated;
+  const std::int64_t h = hardening_h<Fmt>(l, L, m.hk, status);
+  const Operands<1> hn = normalize<B, R>(h);
+  Factor fq{std::int64_t(1) << (B - 2), 0};  // q = 1
+  i128 s = i128(1) << kDamperFracS;          // s_base + s_c2 = 1 without the damper
+  if constexpr (Damper) {
+    // g |ds| = |ds| + h |ds|, the second term held quietly to W + 2 bits (the damper clamps
+    // the excess to its span)
+    const i128 abs_ds = ds < 0 ? -i128(ds) : i128(ds);
+    const Operands<1> an = normalize<B, R>(static_cast<std::int64_t>(abs_ds));
+    i128 h_ds = shift_round<R>(i128(hn.mant[0]) * an.mant[0], kHardFracH - hn.shift - an.shift);
+    const i128 quiet_hi = (i128(1) << (W + 1)) - 1;
+    if (h_ds > quiet_hi) h_ds = quiet_hi;
+    const DamperQ q = damper_q<Fmt>(abs_ds + h_ds, m, status);
+    fq = {q.qm, -q.n};
+    s = damper_s<Fmt, kHardSBits>(q, m, status);
+  }
+  // + s_k h with kDamperFracS fractional bits
+  const int sk_shift =
+      std::clamp(m.s_k.shift + kHardFracH - hn.shift - kDamperFracS, -kHardSBits, 2 * B);
+  const std::int64_t s_term_h = saturate(shift_round<R>(i128(hn.mant[0]) * m.s_k.mant, sk_shift),
+                                         kHardSBits, status, kFlag);
+  const RecipS rs = recip_s<Fmt>(saturate(s + s_term_h, kHardSBits, status, kFlag), status);
+  const Factor fy{rs.y, kDamperFracS + 1 - rs.nb};
+  const Factor fg = factor_of<B, R>(i128(h) + (i128(1) << kHardFracH), kHardFracH);
+  const Factor fh = factor_of<B, R>(h, kHardFracH);
+  const Factor fqy = factor_mul<B, R>(fq, fy);
+  DampedCoefs out;
+  out.alpha = scaled_coef<Fmt>(m.alpha, factor_mul<B, R>(fg, fy), S::kAlpha, status);
+  out.beta = scaled_coef<Fmt>(m.beta, fqy, S::kBeta, status);
+  out.kt = scaled_coef<Fmt>(m.kt, factor_mul<B, R>(fg, fqy), S::kKt, status);
+  out.ct = scaled_coef<Fmt>(m.ct, fqy, S::kCt, status);
+  out.cth = scaled_coef<Fmt>(m.ct_h, factor_mul<B, R>(fh, fqy), S::kCt, status);
+  return out;
+}
+
 // ---- the TEM ---------------------------------------------------------------------------
 
 // Every product has Fmt::kOperandBits-bit operands (B): r and dp are block-normalised
 // vectors, ldot, d - L, l, T and m normalised words, u a Q1.(B-2) operand.
-template <class Fmt, int Arms = 0, bool Damper = false>
+template <class Fmt, int Arms = 0, bool Damper = false, bool Hardening = false>
 inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* status) {
 #pragma HLS PIPELINE II = 1
   static_assert(Arms >= 0 && Arms <= kMaxArms);
@@ -414,10 +589,19 @@ inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* s
   // This edge's coefficients: the material's, or with the force-dependent damper the
   // material's scaled by the damper's state (which depends on ds alone, so the RTL
   // computes it beside the length).
+  // With strain hardening they depend on l as well (and the hardened stiffness adds a
+  // term of its own on ldot, cth).
   Coef alpha = m.alpha, beta = m.beta, kt = m.kt, ct = m.ct;
-  std::int64_t t_lead = 0;  // the arms' lead on ldot (in ct without the damper)
-  if constexpr (Damper) {
-    const DampedCoefs dc = damper_coefs<Fmt>(ds, m, status);
+  std::int64_t t_lead = 0;  // the arms' lead on ldot (in ct without damper and hardening)
+  std::int64_t t_hard = 0;  // cth ldot
+  if constexpr (Damper || Hardening) {
+    DampedCoefs dc;
+    if constexpr (Hardening) {
+      dc = hardened_coefs<Fmt, Damper>(ds, l, in.L, m, status);
+      t_hard = mul_coef_operand<Fmt>(ldot, dc.cth, S::kCt, status, kFlag);
+    } else {
+      dc = damper_coefs<Fmt>(ds, m, status);
+    }
     alpha = dc.alpha;
     beta = dc.beta;
     kt = dc.kt;
@@ -432,7 +616,7 @@ inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* s
   TemOut out;
   // The arms' force joins the tension in one wide sum, so it saturates once.
   const std::int64_t tension =
-      saturate(i128(t_spring) + t_damper + t_lead + t_arms, W, status, kFlag);
+      saturate(i128(t_spring) + t_damper + t_lead + t_hard + t_arms, W, status, kFlag);
   for (int j = 0; j < Arms; ++j) {
     const std::int64_t dm = saturate(i128(ldot) - m_decay[j], W, status, kFlag);
     out.m[j] =
@@ -579,7 +763,7 @@ struct CoreMemory {
 // step (the MPM pass starts after the edge pass), and the force sums are exact (wide,
 // saturated only when narrowed for the MPM), so neither the slot order nor the lane
 // assignment changes any bit.
-template <class Fmt, int Arms = 0, bool Damper = false>
+template <class Fmt, int Arms = 0, bool Damper = false, bool Hardening = false>
 inline std::int64_t core_step(CoreMemory& mem) {
   constexpr int W = Fmt::kWidth;
   const std::uint32_t lanes = mem.lanes;
@@ -613,7 +797,7 @@ edge_pass:
       in.d = edge.d;
       in.L = edge.L;
       for (int j = 0; j < Arms; ++j) in.m[j] = edge.m[j];
-      const TemOut out = tem_edge<Fmt, Arms, Damper>(in, mem.materials[edge.material], &mem.status);
+      const TemOut out = tem_edge<Fmt, Arms, Damper, Hardening>(in, mem.materials[edge.material], &mem.status);
       for (int i = 0; i < 3; ++i) {
         mem.force_start[si][i] += out.f[i];
         mem.force_end[ei][i] -= out.f[i];

@@ -231,6 +231,30 @@ void encode_damper(const EdgeMaterial& m, double dt, double Lu, double x_limit,
   }
 }
 
+// k1 g = k1 (1 + H e^2): s = (c1 + c2 q + k1 g dt) / c_ref = s_base + s_c2 q + s_k h with
+// s_k = k1 dt / c_ref, and T's ldot coefficient c2 q (c1 + k1 g dt) / (c_ref s dt) =
+// ct q / s + ct_h h q / s with ct_h = k1 c2 / c_ref.
+void encode_hardening(const EdgeMaterial& m, double dt, double Lu, double Fu,
+                      const std::string& where, hls::MaterialCoefs& mc) {
+  using S = hls::CoefShifts<hls::HardwareFormat>;
+  const double c = m.c1 + m.c2 + m.k1 * dt;
+  mc.hk = m.hardening > 0.0 ? encode_coef(m.hardening, where + "hardening", 0) : hls::Coef{};
+  mc.s_k = m.k1 > 0.0 ? encode_coef(m.k1 * dt / c, where + "s_k = k1 dt / (c1 + c2 + k1 dt)", 0)
+                      : hls::Coef{};
+  mc.ct_h = m.k1 * m.c2 > 0.0
+                ? encode_coef(m.k1 * m.c2 / c * Lu / Fu,
+                              where + "ct_h = k1 c2 / (c1 + c2 + k1 dt)", S::kCt)
+                : hls::Coef{};
+  // The largest values the hardened coefficients approach as g grows: each must fit.
+  if (m.hardening > 0.0 && m.c2 > 0.0) {
+    const double t_max = m.c2 / dt * Lu / Fu;
+    encode_coef(t_max, where + "with strain hardening, kt = k1 g c2 / (c1 + c2 + k1 g dt) "
+                               "approaches c2 / dt, and", S::kKt);
+    encode_coef(t_max, where + "with strain hardening, ct = c2 (c1 + k1 g dt) / "
+                               "((c1 + c2 + k1 g dt) dt) approaches c2 / dt, and", S::kCt);
+  }
+}
+
 namespace {
 // Where arm j of an edge keeps its extension in a State: m (the parallel arm) or spectrum.
 template <class S>

@@ -123,6 +123,14 @@ hls::Coef encode_coef(double value, const std::string& what, int extra_shift);
 // outside the packed format), naming the material (`where`) and the value.
 void encode_damper(const EdgeMaterial& m, double dt, double length_unit, double x_limit,
                    const std::string& where, hls::MaterialCoefs& mc);
+// Strain hardening's coefficients of material m (hls::hardened_coefs: hk, s_k, ct_h), for
+// a core whose base coefficients in mc are those of the unhardened spring (and, with the
+// damper, at c2 = c2_max). Throws, naming the material (`where`), when a hardened
+// coefficient can outgrow its format: alpha and beta stay below 1, and kt, ct + cth below
+// c2 / dt in force per length unit (the limit of k1 g c2 / (c1 + c2 + k1 g dt) as g grows).
+// length_unit and force_unit are the image's units (m, N).
+void encode_hardening(const EdgeMaterial& m, double dt, double length_unit, double force_unit,
+                      const std::string& where, hls::MaterialCoefs& mc);
 double decode_coef(const hls::Coef& c);
 
 // Frame words of the whole image (a sequence of write commands), hardware format only.
