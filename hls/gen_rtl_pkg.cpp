@@ -89,6 +89,9 @@ int main() {
   param("DamperSBits", h::kDamperSBits, "s and its terms: signed, saturated");
   param("RecipIndexBits", h::kRecipIndexBits, "reciprocal seed ROM address bits");
   param("RecipSeedBits", h::kRecipSeedBits, "reciprocal seed: Q1.16");
+  param("HardFracH", h::kHardFracH, "fractional bits of strain hardening's h = H e^2");
+  param("HardHBits", h::kHardHBits, "h: unsigned, clamped and flagged beyond");
+  param("HardSBits", h::kHardSBits, "s with hardening: signed, saturated");
   param("NumRegions", f::kNumRegions, "regions");
   param("GlobalNumParticles", f::kGlobalNumParticles, "global register");
   param("GlobalEdgeRows", f::kGlobalEdgeRows, "global register");

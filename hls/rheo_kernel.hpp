@@ -508,7 +508,8 @@ inline DampedCoefs hardened_coefs(std::int64_t ds, std::int64_t l, std::int64_t 
   using S = CoefShifts<Fmt>;
   const std::uint32_t kFlag = kStatusTemSaturated;
   const std::int64_t h = hardening_h<Fmt>(l, L, m.hk, status);
-  const Operands<1> hn = normalize<B, R>(h);
+  const Factor fh = factor_of<B, R>(h, kHardFracH);
+  const Factor fg = factor_of<B, R>(i128(h) + (i128(1) << kHardFracH), kHardFracH);
   Factor fq{std::int64_t(1) << (B - 2), 0};  // q = 1
   i128 s = i128(1) << kDamperFracS;          // s_base + s_c2 = 1 without the damper
   if constexpr (Damper) {
@@ -516,22 +517,22 @@ inline DampedCoefs hardened_coefs(std::int64_t ds, std::int64_t l, std::int64_t 
     // the excess to its span)
     const i128 abs_ds = ds < 0 ? -i128(ds) : i128(ds);
     const Operands<1> an = normalize<B, R>(static_cast<std::int64_t>(abs_ds));
-    i128 h_ds = shift_round<R>(i128(hn.mant[0]) * an.mant[0], kHardFracH - hn.shift - an.shift);
+    // h |ds| = fh.m an 2^(an.shift + fh.e - (B-2)), a word with FracX fractional bits
+    const int hds_shift = std::clamp((B - 2) - fh.e - an.shift, -(W + 2), 2 * B);
+    i128 h_ds = shift_round<R>(i128(fh.m) * an.mant[0], hds_shift);
     const i128 quiet_hi = (i128(1) << (W + 1)) - 1;
     if (h_ds > quiet_hi) h_ds = quiet_hi;
     const DamperQ q = damper_q<Fmt>(abs_ds + h_ds, m, status);
     fq = {q.qm, -q.n};
     s = damper_s<Fmt, kHardSBits>(q, m, status);
   }
-  // + s_k h with kDamperFracS fractional bits
+  // + s_k h with kDamperFracS fractional bits (h = fh.m 2^-(B-2) 2^fh.e)
   const int sk_shift =
-      std::clamp(m.s_k.shift + kHardFracH - hn.shift - kDamperFracS, -kHardSBits, 2 * B);
-  const std::int64_t s_term_h = saturate(shift_round<R>(i128(hn.mant[0]) * m.s_k.mant, sk_shift),
+      std::clamp(m.s_k.shift + (B - 2) - fh.e - kDamperFracS, -kHardSBits, 2 * B);
+  const std::int64_t s_term_h = saturate(shift_round<R>(i128(fh.m) * m.s_k.mant, sk_shift),
                                          kHardSBits, status, kFlag);
   const RecipS rs = recip_s<Fmt>(saturate(s + s_term_h, kHardSBits, status, kFlag), status);
   const Factor fy{rs.y, kDamperFracS + 1 - rs.nb};
-  const Factor fg = factor_of<B, R>(i128(h) + (i128(1) << kHardFracH), kHardFracH);
-  const Factor fh = factor_of<B, R>(h, kHardFracH);
   const Factor fqy = factor_mul<B, R>(fq, fy);
   DampedCoefs out;
   out.alpha = scaled_coef<Fmt>(m.alpha, factor_mul<B, R>(fg, fy), S::kAlpha, status);

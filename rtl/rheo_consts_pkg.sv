@@ -64,6 +64,9 @@ package rheo_consts_pkg;
   localparam int DamperSBits = 37;  // s and its terms: signed, saturated
   localparam int RecipIndexBits = 8;  // reciprocal seed ROM address bits
   localparam int RecipSeedBits = 16;  // reciprocal seed: Q1.16
+  localparam int HardFracH = 28;  // fractional bits of strain hardening's h = H e^2
+  localparam int HardHBits = 40;  // h: unsigned, clamped and flagged beyond
+  localparam int HardSBits = 48;  // s with hardening: signed, saturated
   localparam int NumRegions = 23;  // regions
   localparam int GlobalNumParticles = 0;  // global register
   localparam int GlobalEdgeRows = 1;  // global register

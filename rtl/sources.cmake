@@ -8,6 +8,9 @@ set(RHEO_RTL_DIR ${CMAKE_CURRENT_LIST_DIR})
 
 set(RHEO_RTL_TEM_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_damper.sv rheo_tem.sv)
 set(RHEO_RTL_MPM_FILES rheo_consts_pkg.sv rheo_mpm.sv)
+# Strain hardening's coefficient unit, verilated alone against the bit-true model until the
+# hardening TEM instantiates it.
+set(RHEO_RTL_HARDEN_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_recip.sv rheo_harden.sv)
 set(RHEO_RTL_CORE_FILES
   ${RHEO_RTL_TEM_FILES}
   rheo_mpm.sv
@@ -25,7 +28,7 @@ set(RHEO_RTL_CORE_FILES
   rheo_core.sv
 )
 
-# OUT = the files of list NAME (CORE, TEM or MPM) as absolute paths.
+# OUT = the files of list NAME (CORE, TEM, MPM or HARDEN) as absolute paths.
 function(rheo_rtl_paths OUT NAME)
   list(TRANSFORM RHEO_RTL_${NAME}_FILES PREPEND ${RHEO_RTL_DIR}/ OUTPUT_VARIABLE paths)
   set(${OUT} ${paths} PARENT_SCOPE)
