@@ -35,27 +35,39 @@ struct EdgeElement {
   // Force-dependent series damper (seed 000 §3.3): the series damper's viscosity falls with
   // the Voigt spring force (hls::damper_coefs).
   bool series_damper = false;
+  // Strain hardening: the Voigt spring stiffens with the edge's strain
+  // (hls::hardened_coefs). Its TEM runs kHardTemExtra clocks longer.
+  bool strain_hardening = false;
 
   constexpr bool has_maxwell_arm() const { return maxwell_arms > 0; }
+  // Whether the edge's coefficients are scaled per edge (the damper or hardening): the arms'
+  // lead on ldot is then a coefficient of its own (ka) rather than part of ct.
+  constexpr bool scales_coefficients() const { return series_damper || strain_hardening; }
+  // Clocks from the last edge row until its force sums land (the cycle formula's TemDrain).
+  constexpr int tem_drain_cycles() const { return hls::tem_drain_cycles(strain_hardening); }
   // Packed coefficients per material the TEM reads (region Material, the damper's, then
   // the arms').
   constexpr int material_coefficients() const {
-    return 6 + (series_damper ? int(frame::kDamperCoefs) : 0) + 2 * maxwell_arms;
+    return 6 + (series_damper ? int(frame::kDamperCoefs) : 0) +
+           (strain_hardening ? int(frame::kHardeningCoefs) : 0) + 2 * maxwell_arms;
   }
   // Whether the core accepts a write or read of `region` (the base regions, a region pair
   // per arm, the damper's region); any other region is a bad command.
   constexpr bool accepts_region(std::uint32_t region) const {
     if (region < frame::kNumBaseRegions) return true;
     if (region == frame::kRegionMaterialDamper) return series_damper;
+    if (region == frame::kRegionMaterialHardening) return strain_hardening;
     return frame::arm_of_region(region) >= 0 && frame::arm_of_region(region) < maxwell_arms;
   }
   // The RTL parameters that build this variant (beside Lanes).
-  constexpr std::array<RtlParameter, 2> rtl_parameters() const {
+  constexpr std::array<RtlParameter, 3> rtl_parameters() const {
     return {RtlParameter{"MaxwellArms", maxwell_arms},
-            RtlParameter{"SeriesDamper", series_damper ? 1 : 0}};
+            RtlParameter{"SeriesDamper", series_damper ? 1 : 0},
+            RtlParameter{"StrainHardening", strain_hardening ? 1 : 0}};
   }
   friend constexpr bool operator==(const EdgeElement& a, const EdgeElement& b) {
-    return a.maxwell_arms == b.maxwell_arms && a.series_damper == b.series_damper;
+    return a.maxwell_arms == b.maxwell_arms && a.series_damper == b.series_damper &&
+           a.strain_hardening == b.strain_hardening;
   }
 };
 
@@ -79,13 +91,19 @@ inline constexpr EdgeElement kThreeElementWithDamper{
 inline constexpr EdgeElement kThreeElementWithDamper8Arms{
     "three-element+damper+8arms",
     "the three-element edge with the force-dependent series damper and eight parallel "
-    "Maxwell arms (every material effect the core computes)",
+    "Maxwell arms",
     8, true};
+inline constexpr EdgeElement kThreeElementWithHardening{
+    "three-element+hardening",
+    "the three-element edge with strain hardening (the Voigt spring stiffens with the strain)",
+    0, false, true};
 
-// Every variant the bit-true model and the RTL implement, simplest (fewest parts) first.
-inline constexpr std::array<EdgeElement, 6> kEdgeElements{
+// Every variant the bit-true model and the RTL implement, in the order edge_element_with
+// tries them (among variants with the same parts, fewer arms first).
+inline constexpr std::array<EdgeElement, 7> kEdgeElements{
     kThreeElement,           kThreeElementWithArm,    kThreeElementWith4Arms,
-    kThreeElementWith8Arms,  kThreeElementWithDamper, kThreeElementWithDamper8Arms};
+    kThreeElementWith8Arms,  kThreeElementWithDamper, kThreeElementWithDamper8Arms,
+    kThreeElementWithHardening};
 
 // The variant named `name`, or nullptr.
 constexpr const EdgeElement* find_edge_element(std::string_view name) {
@@ -96,10 +114,12 @@ constexpr const EdgeElement* find_edge_element(std::string_view name) {
 }
 
 // The simplest variant with at least `arms` Maxwell arms (and the series damper when
-// `damper`), or nullptr.
-constexpr const EdgeElement* edge_element_with(int arms, bool damper) {
+// `damper`, strain hardening when `hardening`), or nullptr.
+constexpr const EdgeElement* edge_element_with(int arms, bool damper, bool hardening = false) {
   for (const EdgeElement& e : kEdgeElements) {
-    if (e.maxwell_arms >= arms && (e.series_damper || !damper)) return &e;
+    if (e.maxwell_arms >= arms && (e.series_damper || !damper) &&
+        (e.strain_hardening || !hardening))
+      return &e;
   }
   return nullptr;
 }
@@ -113,7 +133,8 @@ inline std::int64_t core_step_for(const EdgeElement& element, CoreMemory& mem,
   const bool stepped =
       ((element == kEdgeElements[I]
             ? (plate = core_step<Fmt, kEdgeElements[I].maxwell_arms,
-                                 kEdgeElements[I].series_damper>(mem),
+                                 kEdgeElements[I].series_damper,
+                                 kEdgeElements[I].strain_hardening>(mem),
                true)
             : false) ||
        ...);

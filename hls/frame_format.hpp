@@ -38,7 +38,10 @@ enum Region : std::uint32_t {
   // Force-dependent series damper (a core built with SeriesDamper = 1; others flag a bad
   // command): d_lo, d_span, zk, s_base, s_c2, ka (packed), see hls::MaterialCoefs.
   kRegionMaterialDamper = 22,
-  kNumRegions = 23,  // the base regions, kMaxArms arms and the damper
+  // Strain hardening (a core built with StrainHardening = 1; others flag a bad command):
+  // hk, s_k, ct_h (packed), see hls::MaterialCoefs.
+  kRegionMaterialHardening = 23,
+  kNumRegions = 24,  // the base regions, kMaxArms arms, the damper and hardening
 };
 
 // Parallel Maxwell arms a core can carry: one region pair each, in the header's region field.
@@ -47,9 +50,11 @@ inline constexpr int kMaxArms = 8;
 // Regions a core without Maxwell arms accepts.
 inline constexpr std::uint32_t kNumBaseRegions = kRegionMaterialArm;
 static_assert(kRegionMaterialDamper == kNumBaseRegions + 2 * kMaxArms);
-static_assert(kNumRegions == kRegionMaterialDamper + 1);
+static_assert(kNumRegions == kRegionMaterialHardening + 1);
 // Packed coefficients of a damper region entry.
 inline constexpr std::uint32_t kDamperCoefs = 6;
+// Packed coefficients of a hardening region entry.
+inline constexpr std::uint32_t kHardeningCoefs = 3;
 
 inline constexpr Region material_arm_region(int arm) {
   return Region(kRegionMaterialArm + 2 * arm);
@@ -70,7 +75,7 @@ inline constexpr bool is_edge_arm_region(std::uint32_t region) {
 
 inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1, 2, 1, 2,
                                                               1, 2, 1, 2, 1, 2, 1, 2, 1, 2, 1,
-                                                              kDamperCoefs};
+                                                              kDamperCoefs, kHardeningCoefs};
 
 enum GlobalRegister : std::uint32_t {
   kGlobalNumParticles = 0,

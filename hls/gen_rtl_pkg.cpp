@@ -92,6 +92,9 @@ int main() {
   param("HardFracH", h::kHardFracH, "fractional bits of strain hardening's h = H e^2");
   param("HardHBits", h::kHardHBits, "h: unsigned, clamped and flagged beyond");
   param("HardSBits", h::kHardSBits, "s with hardening: signed, saturated");
+  param("HardTemExtra", h::kHardTemExtra, "rheo_tem with StrainHardening: extra latency");
+  param("RegionMaterialHardening", f::kRegionMaterialHardening, "region");
+  param("HardeningCoefs", f::kHardeningCoefs, "hardening material entry: packed coefficients");
   param("NumRegions", f::kNumRegions, "regions");
   param("GlobalNumParticles", f::kGlobalNumParticles, "global register");
   param("GlobalEdgeRows", f::kGlobalEdgeRows, "global register");

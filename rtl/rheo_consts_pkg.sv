@@ -67,7 +67,10 @@ package rheo_consts_pkg;
   localparam int HardFracH = 28;  // fractional bits of strain hardening's h = H e^2
   localparam int HardHBits = 40;  // h: unsigned, clamped and flagged beyond
   localparam int HardSBits = 48;  // s with hardening: signed, saturated
-  localparam int NumRegions = 23;  // regions
+  localparam int HardTemExtra = 31;  // rheo_tem with StrainHardening: extra latency
+  localparam int RegionMaterialHardening = 23;  // region
+  localparam int HardeningCoefs = 3;  // hardening material entry: packed coefficients
+  localparam int NumRegions = 24;  // regions
   localparam int GlobalNumParticles = 0;  // global register
   localparam int GlobalEdgeRows = 1;  // global register
   localparam int GlobalGravityX = 2;  // global register
@@ -125,6 +128,7 @@ package rheo_consts_pkg;
       HeaderRegionBits'(20): words_per_entry = EntryFieldW'(2);
       HeaderRegionBits'(21): words_per_entry = EntryFieldW'(1);
       HeaderRegionBits'(22): words_per_entry = EntryFieldW'(6);
+      HeaderRegionBits'(23): words_per_entry = EntryFieldW'(3);
       default: words_per_entry = '0;
     endcase
   endfunction

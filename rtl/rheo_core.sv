@@ -53,6 +53,10 @@
 // SeriesDamper = 1 builds the variant with the force-dependent series damper in every TEM
 // (rheo_damper): per material six more coefficients (region MaterialDamper). Same cycles
 // per step; a core without it refuses the region.
+// StrainHardening = 1 builds the variant with strain hardening in every TEM (rheo_harden):
+// per material three more coefficients (region MaterialHardening). Its TEM runs
+// HardTemExtra clocks longer, and so does the edge pass's drain (TemDrain + HardTemExtra in
+// the cycle formula); a core without it refuses the region.
 module rheo_core #(
   parameter int Lanes = 1,              // parallel TEM/MPM lanes and banks (1..4)
   parameter int MaxParticles = 4096,    // particle memory depth (all banks)
@@ -61,7 +65,8 @@ module rheo_core #(
   parameter int W = 32,                 // stream and state word width
   parameter int CoefW = 24,             // packed coefficient width
   parameter int MaxwellArms = 0,        // parallel Maxwell arms per TEM (0..MaxArms)
-  parameter int SeriesDamper = 0        // force-dependent series damper in every TEM (0/1)
+  parameter int SeriesDamper = 0,       // force-dependent series damper in every TEM (0/1)
+  parameter int StrainHardening = 0     // strain hardening in every TEM (0/1)
 ) (
   input  logic         clk_i,
   input  logic         rst_ni,
@@ -87,6 +92,7 @@ module rheo_core #(
   localparam int PlateAccW = rheo_consts_pkg::PlateAccW;
   localparam int NumCoef = rheo_consts_pkg::MaterialCoefs +
                            ((SeriesDamper != 0) ? rheo_consts_pkg::DamperCoefs : 0) +
+                           ((StrainHardening != 0) ? rheo_consts_pkg::HardeningCoefs : 0) +
                            rheo_consts_pkg::MaterialArmCoefs * MaxwellArms;
   localparam int ArmW = ((MaxwellArms > 0) ? MaxwellArms : 1) * W;  // a slot's m words
   localparam int XpWords = rheo_consts_pkg::ParticleStateWords;  // {p, x}
@@ -131,7 +137,7 @@ module rheo_core #(
 
   rheo_core_ctrl #(
     .Lanes(Lanes), .MaxParticles(MaxParticles), .PDepth(PDepth), .EDepth(EDepth), .W(W),
-    .MaxwellArms(MaxwellArms), .SeriesDamper(SeriesDamper)
+    .MaxwellArms(MaxwellArms), .SeriesDamper(SeriesDamper), .StrainHardening(StrainHardening)
   ) u_ctrl (
     .clk_i(clk_i), .rst_ni(rst_ni),
     .s_axis_tdata(s_axis_tdata), .s_axis_tvalid(s_axis_tvalid), .s_axis_tready(s_axis_tready),
@@ -246,7 +252,7 @@ module rheo_core #(
 
     // ---- edge pass stage 2: TEM (start from the own bank, end via the crossbar) ----
     rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(TemIdxW), .MaxwellArms(MaxwellArms),
-               .SeriesDamper(SeriesDamper)) u_tem (
+               .SeriesDamper(SeriesDamper), .StrainHardening(StrainHardening)) u_tem (
       .clk_i       (clk_i),
       .rst_ni      (rst_ni),
       .valid_i     (ev2_q[j]),
@@ -341,7 +347,7 @@ module rheo_core #(
   // ---------------------------------------------------------------- shared datapath
   rheo_core_mem_mat #(
     .Lanes(Lanes), .MaxMaterials(MaxMaterials), .CoefW(CoefW), .MaxwellArms(MaxwellArms),
-    .SeriesDamper(SeriesDamper)
+    .SeriesDamper(SeriesDamper), .StrainHardening(StrainHardening)
   ) u_mat (
     .clk_i(clk_i), .host_we_i(host_we), .region_i(region), .index_i(index), .field_i(field),
     .wdata_i(s_axis_tdata[CoefW-1:0]), .mat_i(mat1), .coef_o(tem_coef), .flags_o(mflags2));

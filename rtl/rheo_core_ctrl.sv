@@ -19,6 +19,7 @@ module rheo_core_ctrl #(
   parameter int W = 32,
   parameter int MaxwellArms = 0,        // parallel Maxwell arms: a region pair each
   parameter int SeriesDamper = 0,       // force-dependent series damper: its material region
+  parameter int StrainHardening = 0,    // strain hardening: its material region, a longer drain
   localparam int BW = (Lanes > 1) ? $clog2(Lanes) : 1,
   localparam int IdxCountW = rheo_consts_pkg::IdxCountW,
   localparam int RegionW = rheo_consts_pkg::HeaderRegionBits,
@@ -69,7 +70,8 @@ module rheo_core_ctrl #(
   input  logic [PlateAccW-1:0] plate_acc_i       // plate force of the step, complete in drain
 );
   localparam int WideW = rheo_consts_pkg::WideW;
-  localparam int TemDrain = rheo_consts_pkg::TemDrain;
+  localparam int TemDrain = rheo_consts_pkg::TemDrain +
+                            ((StrainHardening != 0) ? rheo_consts_pkg::HardTemExtra : 0);
   localparam int MpmDrain = rheo_consts_pkg::MpmDrain;
   localparam int OpW = rheo_consts_pkg::HeaderOpcodeBits;
   localparam int CoreRegions = rheo_consts_pkg::NumBaseRegions + 2 * MaxwellArms;
@@ -278,7 +280,9 @@ module rheo_core_ctrl #(
               reading_d = hdr_opcode == OpW'(rheo_consts_pkg::OpRead);
               if (hdr_region >= RegionW'(CoreRegions) &&
                   !(SeriesDamper != 0 &&
-                    hdr_region == RegionW'(rheo_consts_pkg::RegionMaterialDamper)))
+                    hdr_region == RegionW'(rheo_consts_pkg::RegionMaterialDamper)) &&
+                  !(StrainHardening != 0 &&
+                    hdr_region == RegionW'(rheo_consts_pkg::RegionMaterialHardening)))
                 status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
               else if (hdr_opcode == OpW'(rheo_consts_pkg::OpRead))
                 state_d = StRStart;

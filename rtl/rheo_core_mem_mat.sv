@@ -9,9 +9,11 @@ module rheo_core_mem_mat #(
   parameter int CoefW = 24,
   parameter int MaxwellArms = 0,
   parameter int SeriesDamper = 0,
+  parameter int StrainHardening = 0,
   localparam int MIdxW = $clog2(MaxMaterials),
-  localparam int NumBase = rheo_consts_pkg::MaterialCoefs +
-                           ((SeriesDamper != 0) ? rheo_consts_pkg::DamperCoefs : 0),
+  localparam int NumDamper = (SeriesDamper != 0) ? rheo_consts_pkg::DamperCoefs : 0,
+  localparam int NumBase = rheo_consts_pkg::MaterialCoefs + NumDamper +
+                           ((StrainHardening != 0) ? rheo_consts_pkg::HardeningCoefs : 0),
   localparam int NumMat = rheo_consts_pkg::MaterialCoefs,  // region Material's coefficients
   localparam int NumArm = rheo_consts_pkg::MaterialArmCoefs,
   localparam int NumCoef = NumBase + NumArm * MaxwellArms,
@@ -42,15 +44,18 @@ module rheo_core_mem_mat #(
   assign entry_ok = index_i < IdxCountW'(MaxMaterials);
 
   // Coefficient c's region and field: the base six (region Material, fields 0..5), the
-  // damper's six (region MaterialDamper), arm k's two (region MaterialArm + 2 k).
+  // damper's six (region MaterialDamper), hardening's three (region MaterialHardening), arm
+  // k's two (region MaterialArm + 2 k).
   function automatic int coef_region(input int c);
     if (c < NumMat) coef_region = rheo_consts_pkg::RegionMaterial;
-    else if (c < NumBase) coef_region = rheo_consts_pkg::RegionMaterialDamper;
+    else if (c < NumMat + NumDamper) coef_region = rheo_consts_pkg::RegionMaterialDamper;
+    else if (c < NumBase) coef_region = rheo_consts_pkg::RegionMaterialHardening;
     else coef_region = rheo_consts_pkg::RegionMaterialArm + 2 * ((c - NumBase) / NumArm);
   endfunction
   function automatic int coef_field(input int c);
     if (c < NumMat) coef_field = c;
-    else if (c < NumBase) coef_field = c - NumMat;
+    else if (c < NumMat + NumDamper) coef_field = c - NumMat;
+    else if (c < NumBase) coef_field = c - NumMat - NumDamper;
     else coef_field = (c - NumBase) % NumArm;
   endfunction
 

@@ -115,11 +115,38 @@ module rheo_round_shift #(
   end
 endmodule
 
-// N-clock delay line (pipeline balancing). Short lines are flip-flops; from 4 clocks on the
+// N-clock delay line (pipeline balancing), any N >= 0: N = 0 is a wire, longer lines are
+// chains of rheo_delay_line (at most 33 clocks each).
+module rheo_delay #(
+  parameter int W = 32,
+  parameter int N = 1
+) (
+  input  logic         clk_i,
+  input  logic         rst_ni,
+  input  logic [W-1:0] d_i,
+  output logic [W-1:0] q_o
+);
+  if (N == 0) begin : g_wire
+    logic unused;
+    assign unused = rst_ni ^ clk_i;
+    assign q_o = d_i;
+  end else begin : g_chain
+    localparam int K = (N + 32) / 33;
+    logic [W-1:0] seg [K+1];
+    assign seg[0] = d_i;
+    for (genvar i = 0; i < K; i++) begin : g_seg
+      rheo_delay_line #(.W(W), .N(i < K - 1 ? 33 : N - 33 * (K - 1))) u_seg (
+        .clk_i(clk_i), .rst_ni(rst_ni), .d_i(seg[i]), .q_o(seg[i+1]));
+    end
+    assign q_o = seg[K];
+  end
+endmodule
+
+// One delay line of 1 <= N <= 33 clocks. Short lines are flip-flops; from 4 clocks on the
 // line is a circular buffer in distributed RAM (one RAM16X1D / RAM32X1D per bit instead of
 // N flip-flops; Yosys does not infer SRL16 for Virtex-II), read N - 1 clocks after the
-// write into an output register. N <= 33.
-module rheo_delay #(
+// write into an output register.
+module rheo_delay_line #(
   parameter int W = 32,
   parameter int N = 1
 ) (
@@ -140,7 +167,7 @@ module rheo_delay #(
   end else begin : g_ram
     localparam int AW = (N - 1 <= 16) ? 4 : 5;
     if (N - 1 > 32) begin : g_depth_check
-      $error("rheo_delay: N must be at most 33");
+      $error("rheo_delay_line: N must be at most 33");
     end
     // distributed: Yosys would otherwise spend block RAMs, which the core's memories need
     (* ram_style = "distributed" *) logic [W-1:0] mem [2**AW];

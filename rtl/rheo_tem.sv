@@ -40,6 +40,12 @@
 // length computation (stages 1-29), so the products of stage 30 read them; ka ldot (the
 // arms' lead, which the damper does not scale) is a seventh product and a fourth term of T.
 // Same latency; +13 multipliers.
+// StrainHardening = 1 adds strain hardening (rheo::hls::tem_edge<Fmt, 0, false, true>):
+// three more coefficients per material (hk, s_k, ct_h, after the damper's place), and
+// rheo_harden turns l and L into this edge's alpha, beta, kt, ct and cth. It needs l (stage
+// 21), so everything from the coefficient products on runs HardTemExtra stages later:
+// stage t >= 30 below is t + HardTemExtra (latency 40 + HardTemExtra). cth ldot is a
+// seventh product and a fourth term of T. +16 multipliers. (Not yet with the damper or arms.)
 // Mirrors rheo::hls::tem_edge.
 module rheo_tem #(
   parameter int W = 32,      // state word width (rheo_consts_pkg::Width)
@@ -47,9 +53,11 @@ module rheo_tem #(
   parameter int IdxW = 16,   // edge index carried alongside
   parameter int MaxwellArms = 0,  // parallel Maxwell arms, 0..rheo_consts_pkg::MaxArms
   parameter int SeriesDamper = 0, // force-dependent series damper (1) or not (0)
+  parameter int StrainHardening = 0,  // strain hardening (1) or not (0)
   localparam int NumBaseCoef = rheo_consts_pkg::MaterialCoefs,
   localparam int NumDamperCoef = (SeriesDamper != 0) ? rheo_consts_pkg::DamperCoefs : 0,
-  localparam int NumCoef = NumBaseCoef + NumDamperCoef +
+  localparam int NumHardCoef = (StrainHardening != 0) ? rheo_consts_pkg::HardeningCoefs : 0,
+  localparam int NumCoef = NumBaseCoef + NumDamperCoef + NumHardCoef +
                            rheo_consts_pkg::MaterialArmCoefs * MaxwellArms,
   localparam int ArmPorts = (MaxwellArms > 0) ? MaxwellArms : 1  // port words of m_i / m_o
 ) (
@@ -64,8 +72,8 @@ module rheo_tem #(
   input  logic [W-1:0]      d_i,        // Voigt length
   input  logic [W-1:0]      len_i,      // Voigt natural length L
   input  logic [ArmPorts*W-1:0] m_i,    // Maxwell-arm extensions, arm j at [j*W +: W]
-  // {arms' {k2t_j, gamma_j} (arm K-1 first), [ka, s_c2, s_base, zk, d_span, d_lo,]
-  //  a_max, a_min, ct, kt, beta, alpha}
+  // {arms' {k2t_j, gamma_j} (arm K-1 first), [ct_h, s_k, hk,] [ka, s_c2, s_base, zk,
+  //  d_span, d_lo,] a_max, a_min, ct, kt, beta, alpha}
   input  logic [NumCoef*CoefW-1:0] coef_i,
   input  logic [1:0]        mat_flags_i,// {clamp high enable, clamp low enable}
   output logic              valid_o,
@@ -83,14 +91,21 @@ module rheo_tem #(
   localparam int FracU = rheo_consts_pkg::FracU;
   localparam int CoefMantBits = rheo_consts_pkg::CoefMantBits;
   localparam int CoefShiftBias = rheo_consts_pkg::CoefShiftBias;
-  localparam int Last = rheo_consts_pkg::TemLatency - 1;  // index of the output stage
+  // Stages from the coefficient products on are HD later with hardening.
+  localparam int HD = (StrainHardening != 0) ? rheo_consts_pkg::HardTemExtra : 0;
+  localparam int Last = rheo_consts_pkg::TemLatency - 1 + HD;  // index of the output stage
   localparam int EW = 6;  // normalisation exponents (< W - B + 2)
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
-  // Arm j's coefficients: CGamma + 2 j, CK2t + 2 j; the damper's ka: CKa.
-  localparam int CGamma = NumBaseCoef + NumDamperCoef, CK2t = CGamma + 1;
+  // Arm j's coefficients: CGamma + 2 j, CK2t + 2 j; the damper's ka: CKa; hardening's hk,
+  // s_k, ct_h: CHk + 0, 1, 2.
+  localparam int CHk = NumBaseCoef + NumDamperCoef;
+  localparam int CGamma = NumBaseCoef + NumDamperCoef + NumHardCoef, CK2t = CGamma + 1;
   localparam int CKa = NumBaseCoef + 5;
-  // Coefficient products of stage 30: the base six, and ka ldot with the damper.
-  localparam int NumProd = NumBaseCoef + ((SeriesDamper != 0) ? 1 : 0);
+  // Coefficient products of stage 30: the base six, ka ldot with the damper, cth ldot with
+  // hardening.
+  localparam int PKa = NumBaseCoef;
+  localparam int PCth = NumBaseCoef + ((SeriesDamper != 0) ? 1 : 0);
+  localparam int NumProd = PCth + ((StrainHardening != 0) ? 1 : 0);
   // Largest left shift of a coefficient product: the host keeps shift + extra >= 0, the
   // operand's exponent is at most W - (B - 1).
   localparam int CoefMaxLeft = W - (B - 1);
@@ -98,8 +113,11 @@ module rheo_tem #(
   if (W != rheo_consts_pkg::Width) begin : g_width_check
     $error("rheo_tem: W must equal rheo_consts_pkg::Width");
   end
-  if (Last != 39) begin : g_latency_check
+  if (rheo_consts_pkg::TemLatency != 40) begin : g_latency_check
     $error("rheo_tem: the stage schedule below is for TemLatency = 40");
+  end
+  if (StrainHardening != 0 && (SeriesDamper != 0 || MaxwellArms != 0)) begin : g_hard_check
+    $error("rheo_tem: strain hardening is built without the damper and the arms so far");
   end
   if (MaxwellArms < 0 || MaxwellArms > rheo_consts_pkg::MaxArms) begin : g_arms_check
     $error("rheo_tem: MaxwellArms must be 0..rheo_consts_pkg::MaxArms");
@@ -123,18 +141,17 @@ module rheo_tem #(
   endfunction
 
   // ---- control pipeline: valid (reset), index, material flags, saturation ----
-  logic v_q [Last+1];
+  logic [Last:0] v_q;  // packed: each pipeline below is one shift (no loop to unroll)
   logic [IdxW-1:0] idx0_q, idx20, idx_out;
   logic [1:0] mflags0_q, mflags35;
-  logic sat_q [Last+1];
-  logic flag_at [Last+1];  // clip flags visible in the registers of stage t
+  logic [Last:0] sat_q;
+  logic [Last:0] flag_at;  // clip flags visible in the registers of stage t
 
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
-      for (int s = 0; s <= Last; s++) v_q[s] <= 1'b0;
+      v_q <= '0;
     end else begin
-      v_q[0] <= valid_i;
-      for (int s = 1; s <= Last; s++) v_q[s] <= v_q[s-1];
+      v_q <= {v_q[Last-1:0], valid_i};
     end
   end
 
@@ -162,7 +179,7 @@ module rheo_tem #(
   logic [1:0] mflags17;
   rheo_delay #(.W(2), .N(17)) u_mflags_d1 (
     .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags0_q), .q_o(mflags17));
-  rheo_delay #(.W(2), .N(18)) u_mflags_d2 (
+  rheo_delay #(.W(2), .N(18 + HD)) u_mflags_d2 (
     .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags17), .q_o(mflags35));
 
   // ---- stage 1: differences ----
@@ -233,15 +250,14 @@ module rheo_tem #(
   //      u = r^ y 2^-(k+1) ----
   logic signed [PW-1:0] lprod19_q, uprod19_q [3];
   logic [6:0] ls19_q, us19_q;
-  logic deg_q [19:Last];
+  logic [Last:19] deg_q;
   always_ff @(posedge clk_i) begin
     lprod19_q <= rs_mant18 * rs_y18;
     for (int i = 0; i < 3; i++) uprod19_q[i] <= rn18[i] * rs_y18;
     // both >= 0: er + parity + k <= 15 + 18 = 2B - 3 (l2n < 2^36 gives k <= 17)
     ls19_q <= 7'(2 * B - 3) - 7'(er18) - 7'(rs_parity18) - 7'(rs_k18);
     us19_q <= 7'(rs_k18) + 7'd1;
-    deg_q[19] <= rs_deg18;
-    for (int s = 20; s <= Last; s++) deg_q[s] <= deg_q[s-1];
+    deg_q <= {deg_q[Last-1:19], rs_deg18};
   end
   logic signed [W-1:0] l21;
   logic signed [B-1:0] u21 [3];
@@ -294,10 +310,38 @@ module rheo_tem #(
   end
 
   // ---- stage 30: coefficient products; stages 31-32: shifted back ----
-  // this edge's coefficients: the material's, or alpha..ct from the damper (and ka)
+  // this edge's coefficients: the material's, alpha..ct from the damper (and ka), or
+  // alpha..ct and cth from the hardening unit; all at stage 29 (+ HD)
   logic [CoefW-1:0] coef29 [NumProd];
-  logic clip_damper29;
-  if (SeriesDamper != 0) begin : g_damper
+  logic clip_damper29, clip_hard29;  // (clip_hard29 is at stage 29 + HD)
+  if (StrainHardening != 0) begin : g_hard
+    // rheo_harden takes L and the coefficients at its stage 0 = stage 17 and l at stage 21
+    // (its stage 4); its coefficients are ready at stage 17 + 43 = 29 + HD
+    localparam int HardIn = 17;
+    if (HardIn + 43 != 29 + HD) begin : g_hard_latency_check
+      $error("rheo_tem: HardTemExtra must be rheo_harden's latency less 13");
+    end
+    logic signed [W-1:0] len17;
+    logic [7*CoefW-1:0] hcoef0, hcoef17;
+    logic [5*CoefW-1:0] hard29;
+    always_comb begin
+      for (int c = 0; c < 4; c++) hcoef0[c*CoefW +: CoefW] = coef0_q[c];
+      for (int c = 0; c < 3; c++) hcoef0[(4+c)*CoefW +: CoefW] = coef0_q[CHk + c];
+    end
+    rheo_delay #(.W(W), .N(HardIn)) u_len_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(len_q), .q_o(len17));
+    rheo_delay #(.W(7*CoefW), .N(HardIn)) u_hcoef_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(hcoef0), .q_o(hcoef17));
+    rheo_harden #(.W(W), .CoefW(CoefW)) u_harden (
+      .clk_i(clk_i), .len_i(len17), .coef_i(hcoef17), .l_i(l21), .coef_o(hard29),
+      .clip_o(clip_hard29));
+    for (genvar c = 0; c < 4; c++) begin : g_hard_coef
+      assign coef29[c] = hard29[c*CoefW +: CoefW];
+    end
+    assign coef29[PCth] = hard29[4*CoefW +: CoefW];
+    for (genvar c = 4; c < NumBaseCoef; c++) begin : g_coef_d
+      rheo_delay #(.W(CoefW), .N(29 + HD)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
+    end
+    assign clip_damper29 = 1'b0;
+  end else if (SeriesDamper != 0) begin : g_damper
     logic [12*CoefW-1:0] dcoef0;
     logic [4*CoefW-1:0] damped29;
     always_comb for (int c = 0; c < 12; c++) dcoef0[c*CoefW +: CoefW] = coef0_q[c];
@@ -309,18 +353,27 @@ module rheo_tem #(
     for (genvar c = 4; c < NumBaseCoef; c++) begin : g_coef_d
       rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
     end
-    rheo_delay #(.W(CoefW), .N(29)) u_ka_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[CKa]), .q_o(coef29[NumBaseCoef]));
+    rheo_delay #(.W(CoefW), .N(29)) u_ka_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[CKa]), .q_o(coef29[PKa]));
+    assign clip_hard29 = 1'b0;
   end else begin : g_no_damper
     assign clip_damper29 = 1'b0;
+    assign clip_hard29 = 1'b0;
     for (genvar c = 0; c < NumBaseCoef; c++) begin : g_coef_d
       rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
     end
   end
-  // operand of each coefficient (product NumBaseCoef is ka) and the extra shift of its
-  // format change
+  // the operands wait for the coefficients (HD clocks with hardening)
+  logic [B-1:0] opnp [NumOp];
+  logic [EW-1:0] opep [NumOp];
+  for (genvar o = 0; o < NumOp; o++) begin : g_op_wait
+    rheo_delay #(.W(B + EW), .N(HD)) u_d (
+      .clk_i(clk_i), .rst_ni(rst_ni), .d_i({opn29[o], ope29[o]}), .q_o({opnp[o], opep[o]}));
+  end
+  // operand of each coefficient (products PKa and PCth are ka and cth) and the extra shift
+  // of its format change
   function automatic int coef_operand(input int c);
     case (c)
-      CBeta, CCt, NumBaseCoef: coef_operand = OpLdot;
+      CBeta, CCt, PKa, PCth: coef_operand = OpLdot;
       CAlpha, CKt: coef_operand = OpDs;
       default: coef_operand = OpL;
     endcase
@@ -330,7 +383,7 @@ module rheo_tem #(
       CAlpha: coef_extra = rheo_consts_pkg::ShiftAlpha;
       CBeta: coef_extra = rheo_consts_pkg::ShiftBeta;
       CKt: coef_extra = rheo_consts_pkg::ShiftKt;
-      CCt, NumBaseCoef: coef_extra = rheo_consts_pkg::ShiftCt;
+      CCt, PKa, PCth: coef_extra = rheo_consts_pkg::ShiftCt;
       default: coef_extra = rheo_consts_pkg::ShiftClamp;
     endcase
   endfunction
@@ -340,10 +393,10 @@ module rheo_tem #(
   logic cclip32 [NumProd];
   for (genvar c = 0; c < NumProd; c++) begin : g_coef
     always_ff @(posedge clk_i) begin
-      cprod30_q[c] <= $signed(opn29[coef_operand(c)]) * $signed(coef29[c][CoefMantBits-1:0]);
+      cprod30_q[c] <= $signed(opnp[coef_operand(c)]) * $signed(coef29[c][CoefMantBits-1:0]);
       // shift + extra - e, biased by CoefMaxLeft (>= 0: the host keeps shift + extra >= 0)
       cs30_q[c] <= 7'(coef29[c][CoefW-1:CoefMantBits]) + 7'(CoefMaxLeft - CoefShiftBias) +
-                   7'(coef_extra(c)) - 7'(ope29[coef_operand(c)]);
+                   7'(coef_extra(c)) - 7'(opep[coef_operand(c)]);
     end
     rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(CoefMaxLeft)) u_scale (
       .clk_i(clk_i), .v_i(cprod30_q[c]), .sb_i(cs30_q[c]), .out_o(cres32[c]),
@@ -361,7 +414,10 @@ module rheo_tem #(
   if (SeriesDamper != 0) begin : g_lead
     // at most eight arms' words and ka ldot: |sum| < 2^(W+2) + 2^(W-1), so with kt ds and
     // ct ldot T stays below 2^(W+3) and the sum below is exact in W + 4 bits
-    assign tarm_lead32 = (W+4)'(tarm32) + (W+4)'(cres32[NumBaseCoef]);
+    assign tarm_lead32 = (W+4)'(tarm32) + (W+4)'(cres32[PKa]);
+  end else if (StrainHardening != 0) begin : g_hard_lead
+    // cth ldot (no arms so far): T = kt ds + ct ldot + cth ldot, below 2^(W+1)
+    assign tarm_lead32 = (W+4)'(tarm32) + (W+4)'(cres32[PCth]);
   end else begin : g_no_lead
     assign tarm_lead32 = (W+4)'(tarm32);
   end
@@ -392,7 +448,7 @@ module rheo_tem #(
   logic signed [W-1:0] d34, lo35, hi35;
   logic signed [W-1:0] d17;
   rheo_delay #(.W(W), .N(17)) u_d_d1 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(d0_q), .q_o(d17));
-  rheo_delay #(.W(W), .N(17)) u_d_d2 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(d17), .q_o(d34));
+  rheo_delay #(.W(W), .N(17 + HD)) u_d_d2 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(d17), .q_o(d34));
   rheo_delay #(.W(W), .N(3)) u_lo_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(cres32[CAmin]), .q_o(lo35));
   rheo_delay #(.W(W), .N(3)) u_hi_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(cres32[CAmax]), .q_o(hi35));
   logic signed [W-1:0] ddr34_q, dnew35_q, dclamp36_q;
@@ -410,7 +466,7 @@ module rheo_tem #(
 
   // ---- stage 37: T^ u; stages 38-39: f = T^ u 2^(et - FracU) ----
   logic [3*B-1:0] u36_flat;
-  rheo_delay #(.W(3*B), .N(15)) u_u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i({u21[2], u21[1], u21[0]}), .q_o(u36_flat));
+  rheo_delay #(.W(3*B), .N(15 + HD)) u_u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i({u21[2], u21[1], u21[0]}), .q_o(u36_flat));
   logic signed [PW-1:0] fprod37_q [3];
   logic [6:0] fs37_q;
   logic signed [W-1:0] f39 [3];
@@ -439,7 +495,7 @@ module rheo_tem #(
     logic signed [W+2:0] tarm9_q;          // all arms (at most eight)
     logic [K-1:0] clip6, clip_dm33, clip_m35;
     logic signed [W-1:0] ldot32;
-    rheo_delay #(.W(W), .N(6)) u_ldot_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ldot26), .q_o(ldot32));
+    rheo_delay #(.W(W), .N(6 + HD)) u_ldot_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ldot26), .q_o(ldot32));
     for (genvar j = 0; j < K; j++) begin : g_arm
       localparam int CG = CGamma + 2 * j, CK = CK2t + 2 * j;
       // m_j^ (stages 1-3) and the arm's two coefficients, which wait for it
@@ -474,10 +530,10 @@ module rheo_tem #(
       logic clip_dm33_q, clip_m35_q;
       assign clip_dm33[j] = clip_dm33_q;
       assign clip_m35[j] = clip_m35_q;
-      rheo_delay #(.W(W), .N(26)) u_mg_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(mg6), .q_o(mg32));
+      rheo_delay #(.W(W), .N(26 + HD)) u_mg_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(mg6), .q_o(mg32));
       logic signed [W-1:0] m17;  // two delay lines: one holds at most 33 clocks
       rheo_delay #(.W(W), .N(17)) u_m_d1 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m0_q[j*W +: W]), .q_o(m17));
-      rheo_delay #(.W(W), .N(17)) u_m_d2 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m17), .q_o(m34));
+      rheo_delay #(.W(W), .N(17 + HD)) u_m_d2 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(m17), .q_o(m34));
       always_comb begin
         dm_w = (W+1)'(ldot32) - (W+1)'(mg32);
         mnew_w = (W+1)'(m34) + (W+1)'(dmr34_q);
@@ -505,7 +561,7 @@ module rheo_tem #(
       if (Quads > 1) tarm9_q <= (W+3)'(tquad8_q[0]) + (W+3)'(tquad8_q[Quads-1]);
       else tarm9_q <= (W+3)'(tquad8_q[0]);
     end
-    rheo_delay #(.W(W+3), .N(23)) u_tarm_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tarm9_q), .q_o(tarm32));
+    rheo_delay #(.W(W+3), .N(23 + HD)) u_tarm_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tarm9_q), .q_o(tarm32));
     assign clip_arm_at6 = |clip6;
     assign clip_arm_at33 = |clip_dm33;
     assign clip_arm_at35 = |clip_m35;
@@ -521,19 +577,19 @@ module rheo_tem #(
 
   // ---- saturation flags: each clip joins the edge's flag in the stage where it is seen ----
   always_comb begin
-    for (int s = 0; s <= Last; s++) flag_at[s] = 1'b0;
+    flag_at = '0;
     flag_at[1] = clip1_q;
     flag_at[6] = clip_arm_at6;
     flag_at[21] = clip_l21 | clip_u21[0] | clip_u21[1] | clip_u21[2];
     flag_at[26] = clip_ldot26;
     flag_at[29] = clip_damper29;
-    for (int c = 0; c < NumProd; c++) flag_at[32] = flag_at[32] | cclip32[c];
-    flag_at[33] = clip33_q | clip_arm_at33;
-    flag_at[35] = clip35_q | clip_arm_at35;
+    flag_at[29 + HD] = flag_at[29 + HD] | clip_hard29;
+    for (int c = 0; c < NumProd; c++) flag_at[32 + HD] = flag_at[32 + HD] | cclip32[c];
+    flag_at[33 + HD] = clip33_q | clip_arm_at33;
+    flag_at[35 + HD] = clip35_q | clip_arm_at35;
   end
   always_ff @(posedge clk_i) begin
-    sat_q[0] <= 1'b0;
-    for (int s = 1; s <= Last; s++) sat_q[s] <= sat_q[s-1] | flag_at[s-1];
+    sat_q <= {sat_q[Last-1:0] | flag_at[Last-1:0], 1'b0};
   end
 
   assign valid_o = v_q[Last];

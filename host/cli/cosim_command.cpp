@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "hls/edge_element.hpp"
 #include "hls/fixed_format.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
@@ -98,8 +99,11 @@ void run(const CosimArgs& args) {
   j["max_force_ref_N"] = r.max_force_ref_N;
   j["cycles_per_step_measured"] = r.cycles_per_step_measured;
   j["cycles_per_step_formula"] = r.cycles_per_step_formula;
+  const hls::EdgeElement* element = hls::find_edge_element(r.element);
   j["cycles_per_step_formula_text"] =
-      "max(R,1) + " + std::to_string(driver::kTemDrainCycles) + " + ceil(N/lanes) + " +
+      "max(R,1) + " +
+      std::to_string(element ? element->tem_drain_cycles() : driver::kTemDrainCycles) +
+      " + ceil(N/lanes) + " +
       std::to_string(driver::kMpmDrainCycles) + ", R = rows of the edge schedule";
   j["sim_cycles"] = r.sim_cycles;
   j["sim_cycles_per_s"] = r.sim_cycles_per_s;

@@ -164,6 +164,7 @@ void write_ucf(const fs::path& file, double period_ns) {
 std::string tem_label(const hls::EdgeElement& e) {
   std::string label = "tem";
   if (e.series_damper) label += "_damper";
+  if (e.strain_hardening) label += "_hardening";
   if (e.maxwell_arms == 1) label += "_arm";
   if (e.maxwell_arms > 1) label += "_arms" + std::to_string(e.maxwell_arms);
   return label;

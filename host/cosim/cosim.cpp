@@ -76,7 +76,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   res.force_unit_N = image.units.force_N;
   res.dt_s = dt;
   res.cycles_per_step_formula =
-      driver::cycles_per_step_formula(image.edge_rows, image.num_particles, opt.lanes);
+      driver::cycles_per_step_formula(image.edge_rows, image.num_particles, opt.lanes, *element);
   const std::optional<backend::CoreClock> clock_start = dut->clock();
 
   std::unique_ptr<backend::Backend> ref;

@@ -134,6 +134,13 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
       if (field < frame::kDamperCoefs) *coefs[field] = unpack_coef(w);
       return;
     }
+    case frame::kRegionMaterialHardening: {
+      if (index >= std::uint32_t(hls::kMaxMaterials)) return;
+      hls::MaterialCoefs& mc = m.materials[index];
+      hls::Coef* coefs[frame::kHardeningCoefs] = {&mc.hk, &mc.s_k, &mc.ct_h};
+      if (field < frame::kHardeningCoefs) *coefs[field] = unpack_coef(w);
+      return;
+    }
     default: {
       // Maxwell arm j: its coefficients per material, its extension per edge slot.
       const int arm = frame::arm_of_region(region);
@@ -209,7 +216,7 @@ void BitTrueTransport::process() {
       const std::int64_t plate_force = hls::core_step_for<Fmt>(element_, m);
       out_.push_back(static_cast<std::uint32_t>(plate_force));
       cycles_ += static_cast<std::uint32_t>(
-          cycles_per_step_formula(int(m.edge_rows), int(m.num_particles), lanes_));
+          cycles_per_step_formula(int(m.edge_rows), int(m.num_particles), lanes_, element_));
       if (count > 1) in_.push_front(frame::header(frame::kOpRun, frame::kRegionGlobals, count - 1));
     } else if (op == frame::kOpStatus) {
       in_.pop_front();

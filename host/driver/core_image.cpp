@@ -37,9 +37,11 @@ std::int64_t round_to_word(double scaled, int width, const std::string& what) {
 
 }  // namespace
 
-long cycles_per_step_formula(int edge_rows, int num_particles, int lanes) {
+long cycles_per_step_formula(int edge_rows, int num_particles, int lanes,
+                             const hls::EdgeElement& element) {
   const long particle_rows = (long(num_particles) + lanes - 1) / lanes;
-  return std::max<long>(edge_rows, 1) + kTemDrainCycles + particle_rows + kMpmDrainCycles;
+  return std::max<long>(edge_rows, 1) + element.tem_drain_cycles() + particle_rows +
+         kMpmDrainCycles;
 }
 
 EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int lanes) {
@@ -289,14 +291,17 @@ void read_arm_extensions(const Model& model, const CoreImage& image,
 
 const hls::EdgeElement& edge_element_for(const Model& model) {
   int arms = 0;
-  bool damper = false;
+  bool damper = false, hardening = false;
   for (const EdgeMaterial& m : model.materials) {
     arms = std::max(arms, hardware_arm_count(m));
     damper = damper || m.nonlinear;
+    hardening = hardening || m.hardening != 0.0;
   }
-  const hls::EdgeElement* e = hls::edge_element_with(arms, damper);
-  // More arms than any core carries: the largest, and hardware_model drops the arms.
-  return e ? *e : hls::kEdgeElements.back();
+  if (const hls::EdgeElement* e = hls::edge_element_with(arms, damper, hardening)) return *e;
+  // No core has all of it (more arms than any core carries, or hardening with the damper
+  // or arms): the core with the damper and the most arms, and hardware_model drops the rest.
+  const hls::EdgeElement* e = hls::edge_element_with(std::min(arms, hls::kMaxArms), damper);
+  return e ? *e : hls::kThreeElementWithDamper8Arms;
 }
 
 Model hardware_model(const Model& model, std::vector<std::string>* dropped,
@@ -311,8 +316,11 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped,
                       std::string(element.name) + " core has no force-dependent damper)");
       m.nonlinear = false;
     }
-    if (m.hardening != 0.0) notes.push_back(where + "strain hardening");
-    m.hardening = 0.0;
+    if (m.hardening != 0.0 && !element.strain_hardening) {
+      notes.push_back(where + "strain hardening (the " + std::string(element.name) +
+                      " core has no strain hardening)");
+      m.hardening = 0.0;
+    }
     // Maxwell arms (the parallel arm and the spectrum's): all of them, or none when the
     // core has fewer arms than the material.
     const int arms = hardware_arm_count(m);
@@ -431,19 +439,19 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     const int arms = hardware_arm_count(m);
     double arm_k_sum = 0.0;
     for (int j = 0; j < arms; ++j) arm_k_sum += hardware_arm(m, j).k;
-    // With the series damper the arms' k is a coefficient of its own (ka): ct is scaled
-    // per edge by c2 / c, the arms' lead is not.
-    const double ct_arms = element.series_damper ? 0.0 : arm_k_sum;
+    // With the series damper or hardening the arms' k is a coefficient of its own (ka): ct
+    // is scaled per edge (by q / s), the arms' lead is not.
+    const double ct_arms = element.scales_coefficients() ? 0.0 : arm_k_sum;
     const double ct = m.c2 * (m.c1 + m.k1 * dt) / (c * dt) + ct_arms;
     mc.ct = encode_coef(ct * Lu / Fu,
                         where + (ct_arms > 0.0
                                      ? "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt) + sum of arm k"
                                      : "ct = c2 (c1 + k1 dt) / ((c1 + c2 + k1 dt) dt)"),
                         S::kCt);
-    if (element.series_damper) {
+    if (element.scales_coefficients())
       mc.ka = encode_coef(arm_k_sum * Lu / Fu, where + "ka = sum of arm k", S::kCt);
-      encode_damper(m, dt, Lu, x_limit, where, mc);
-    }
+    if (element.series_damper) encode_damper(m, dt, Lu, x_limit, where, mc);
+    if (element.strain_hardening) encode_hardening(m, dt, Lu, Fu, where, mc);
     if (m.a_min > 0.0) {
       mc.a_min = encode_coef(m.a_min, where + "a_min", 0);
       mc.flags |= hls::kClampLowEnable;
@@ -511,6 +519,13 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     ends[k] = {e.s, e.e};
     ++degree[e.s];
     ++degree[e.e];
+    // The hardening TEM takes the strain from L (the reference from l0): they must agree.
+    if (element.strain_hardening && model.materials.at(e.material).hardening != 0.0 &&
+        std::fabs(e.L - e.l0) > 1e-9 * e.l0) {
+      throw Error("edge " + std::to_string(k) + ": natural length L = " + str(e.L) +
+                  " m differs from the rest length l0 = " + str(e.l0) +
+                  " m; the hardware computes strain hardening's strain from L");
+    }
   }
   for (int i = 0; i < np; ++i) {
     if (degree[i] > kMaxDegree) {
@@ -624,6 +639,13 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
         w.push_back(pack_coef(*c));
     }
     write_command(out, frame::kRegionMaterialDamper, 0, w);
+  }
+  if (img.element.strain_hardening) {
+    w.clear();
+    for (const auto& m : img.materials) {
+      for (const hls::Coef* c : {&m.hk, &m.s_k, &m.ct_h}) w.push_back(pack_coef(*c));
+    }
+    write_command(out, frame::kRegionMaterialHardening, 0, w);
   }
   for (int j = 0; j < img.element.maxwell_arms; ++j) {
     w.clear();

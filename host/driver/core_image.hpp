@@ -54,10 +54,12 @@ struct CoreImage {
 };
 
 // Compute clocks per step of the RTL core (rtl/rheo_core.sv header):
-//   max(R, 1) + TemDrain + ceil(N / lanes) + MpmDrain,  R = rows of the edge schedule.
+//   max(R, 1) + TemDrain + ceil(N / lanes) + MpmDrain,  R = rows of the edge schedule,
+// TemDrain the element's (longer with strain hardening: hls::EdgeElement::tem_drain_cycles).
 inline constexpr int kTemDrainCycles = hls::kTemDrainCycles;
 inline constexpr int kMpmDrainCycles = hls::kMpmDrainCycles;
-long cycles_per_step_formula(int edge_rows, int num_particles, int lanes);
+long cycles_per_step_formula(int edge_rows, int num_particles, int lanes,
+                             const hls::EdgeElement& element = hls::kThreeElement);
 
 // The edge schedule for `lanes` lanes (particle i in bank i % lanes). Each edge goes to
 // the lane owning its start particle (the model's orientation is kept, so the words do

@@ -11,6 +11,7 @@
 #include "Vrheo_core_arms8_l1.h"
 #include "Vrheo_core_damper_arms8_l1.h"
 #include "Vrheo_core_damper_l1.h"
+#include "Vrheo_core_hardening_l1.h"
 #include "Vrheo_core_l1.h"
 #include "Vrheo_core_l2.h"
 #include "Vrheo_core_l4.h"
@@ -192,7 +193,8 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
       throw Error("RTL core with random power-up state: built for 1 lane without the arm");
     impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
   } else if (o.element != hls::kThreeElement) {
-    // The cores with arms or the damper are built for one lane (rtl/CMakeLists.txt).
+    // The cores with arms, the damper or hardening are built for one lane
+    // (rtl/CMakeLists.txt).
     if (o.lanes != 1)
       throw Error("RTL core with edge element " + std::string(o.element.name) +
                   ": lanes = " + std::to_string(o.lanes) + ": built for 1 lane only");
@@ -206,6 +208,8 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
       impl_ = std::make_unique<Harness<Vrheo_core_damper_l1>>(o);
     else if (o.element == hls::kThreeElementWithDamper8Arms)
       impl_ = std::make_unique<Harness<Vrheo_core_damper_arms8_l1>>(o);
+    else if (o.element == hls::kThreeElementWithHardening)
+      impl_ = std::make_unique<Harness<Vrheo_core_hardening_l1>>(o);
     else
       throw Error("RTL core with edge element " + std::string(o.element.name) + ": not built");
   } else if (o.lanes == 1)

@@ -227,7 +227,12 @@ TEST(Backend, AFourArmSpectrumRunsOnTheFourArmCoreAndItsStateComesBack) {
 
 TEST(Backend, FeaturesACoreDoesNotComputeAreListed) {
   Model model = block5_model();
+  // hardening with the nonlinear damper: no core has both yet (the damper core is chosen)
   model.materials[0].hardening = 10.0;
+  model.materials[0].nonlinear = true;
+  model.materials[0].f1 = 200.0;
+  model.materials[0].f2 = 1500.0;
+  model.materials[0].c2_min = model.materials[0].c2 / 10.0;
   model.volume.enabled = true;
   model.volume.kv = 1e3;
   for (const std::string& spec : {std::string("float"), std::string("bittrue")}) {
@@ -244,6 +249,18 @@ TEST(Backend, FeaturesACoreDoesNotComputeAreListed) {
   const std::unique_ptr<Backend> ref = make_backend("ref");
   ref->load(model, initial_state(model), load_scenario("block5").options.dt);
   EXPECT_TRUE(ref->dropped_features().empty());
+}
+
+// Hardening alone runs on the hardening core: nothing is dropped.
+TEST(Backend, StrainHardeningAloneIsComputedByTheHardwareBackends) {
+  Model model = block5_model();
+  model.materials[0].hardening = 10.0;
+  for (const std::string& spec : {std::string("float"), std::string("bittrue")}) {
+    const std::unique_ptr<Backend> b = make_backend(spec);
+    b->load(model, initial_state(model), load_scenario("block5").options.dt);
+    EXPECT_TRUE(b->dropped_features().empty())
+        << spec << ": " << (b->dropped_features().empty() ? "" : b->dropped_features().front());
+  }
 }
 
 }  // namespace

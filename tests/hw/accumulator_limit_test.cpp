@@ -287,6 +287,46 @@ TEST(DamperLimit, ACoefficientShiftOutOfRangeIsClampedAndFlaggedOnBothModels) {
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
 }
 
+// One edge with strain hardening, the leaf and the Voigt length pulled out to 1.3 times the
+// rest length (strain 0.3: g = 1 + H 0.09); heavy particles keep the MPM inside its words. The hardening core
+// (StrainHardening = 1).
+CoreImage stretched_hardening_image() {
+  Model m = star(1, true);
+  m.mass.assign(m.mass.size(), 100.0);
+  m.materials[0].hardening = 10.0;
+  State s = initial_state(m);
+  s.x[1] = m.x0[0] + 1.3 * (m.x0[1] - m.x0[0]);
+  s.d[0] = 1.3 * m.edges[0].L;  // the Voigt spring stretched with it
+  return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWithHardening);
+}
+
+TEST(HardeningLimit, AnEdgeInsideItsRangeRaisesNoFlagOnEitherModel) {
+  const StepResult golden = expect_step_matches(stretched_hardening_image());
+  EXPECT_EQ(golden.flags, 0u) << describe_status_flags(golden.flags);
+  EXPECT_GT(golden.state[3], 0) << "the stretched edge pulls the hub toward the leaf (+x)";
+}
+
+// The hardening coefficient raised one bit at a time until h = H e^2 leaves its word (a
+// table the host never writes, g beyond 2^12): the TEM flag on both models, and the same
+// words.
+TEST(HardeningLimit, StrainTermBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = stretched_hardening_image();
+  const bool reached =
+      raise_until_tem_flag(img, 40, [](CoreImage& i) { --i.materials[0].hk.shift; });
+  ASSERT_TRUE(reached) << "h never left its word";
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+}
+
+// s_k at its largest packed value (h = 0.9 inside its word): s = 1 + s_k h leaves its word;
+// clamped and flagged on both models.
+TEST(HardeningLimit, SBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = stretched_hardening_image();
+  img.materials[0].s_k = hls::Coef{(1 << 17) - 1, -16};
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+}
+
 // `pairs` plate particles at z = 0.5 m, each hanging from a fixed anchor 0.25 m above by a
 // stretched edge: each is pulled up through the plate (at 0.5 m), held by it, and adds
 // its upward force to the plate force.

@@ -5,7 +5,9 @@
 // which also carry each arm's extension m_j and two more coefficients per arm, and the ones
 // with the force-dependent series damper (SeriesDamper = 1: Vrheo_tem_damper, and with eight
 // arms Vrheo_tem_damper_arms8), whose six coefficients per material drive the edge's
-// alpha, beta, kt, ct through the 2^-f table and the reciprocal.
+// alpha, beta, kt, ct through the 2^-f table and the reciprocal, and the one with strain
+// hardening (StrainHardening = 1: Vrheo_tem_hardening, 31 clocks longer), whose three
+// coefficients and the edge's length and L drive alpha, beta, kt, ct and cth.
 #include <gtest/gtest.h>
 
 #pragma GCC diagnostic push
@@ -18,6 +20,7 @@
 #include "Vrheo_tem_arms8.h"
 #include "Vrheo_tem_damper.h"
 #include "Vrheo_tem_damper_arms8.h"
+#include "Vrheo_tem_hardening.h"
 #pragma GCC diagnostic pop
 
 #include <deque>
@@ -45,11 +48,12 @@ struct Expected {
 // tem_edge<Fmt, kArms, kDamper>. With the damper, its coefficients are drawn over the
 // ranges the host writes, and 2 % of the materials get any packed word for d_lo, d_span, zk,
 // s_base and s_c2 (negative slopes, shifts far out of range: the clamps and flags of
-// hls::damper_coefs).
-template <class Model, int kArms, bool kDamper = false>
+// hls::damper_coefs). With hardening, likewise for hk, s_k and ct_h (hls::hardened_coefs).
+template <class Model, int kArms, bool kDamper = false, bool kHardening = false>
 void expect_rtl_tem_matches_bit_true() {
   constexpr int kDamperCoefs = kDamper ? 6 : 0;
-  constexpr int kCoefs = 6 + kDamperCoefs + 2 * kArms;
+  constexpr int kHardCoefs = kHardening ? 3 : 0;
+  constexpr int kCoefs = 6 + kDamperCoefs + kHardCoefs + 2 * kArms;
   constexpr int kCoefWords = (kCoefs * 24 + 31) / 32;
   std::mt19937_64 rng(5);
   std::uniform_int_distribution<std::int64_t> small_pos(0, std::int64_t(6) << Fmt::kFracX);
@@ -61,7 +65,7 @@ void expect_rtl_tem_matches_bit_true() {
   rtl_test::reset(*tem);
   std::deque<Expected> pending;
   int checked = 0, saturated = 0;
-  for (int cycle = 0; cycle < kEdges + 40; ++cycle) {
+  for (int cycle = 0; cycle < kEdges + tem_latency(kHardening); ++cycle) {
     tem->clk_i = 0;
     const bool issue = cycle < kEdges && unit(rng) < 0.9;  // some bubbles
     tem->valid_i = issue;
@@ -101,6 +105,16 @@ void expect_rtl_tem_matches_bit_true() {
         // ka is an ordinary coefficient (the host keeps its shift + extra >= 0)
         mc.ka = driver::encode_coef(kArms > 0 ? 2.0 * unit(rng) : 0.0, "ka", S::kCt);
       }
+      if constexpr (kHardening) {
+        if (unit(rng) < 0.02) {
+          std::uniform_int_distribution<std::uint32_t> any_packed(0, (1u << 24) - 1);
+          for (Coef* c : {&mc.hk, &mc.s_k, &mc.ct_h}) *c = rtl_test::unpack_coef(any_packed(rng));
+        } else {
+          mc.hk = driver::encode_coef(std::exp2(10 * unit(rng) - 5), "hk", 0);
+          mc.s_k = driver::encode_coef(std::exp2(-14 * unit(rng)), "s_k", 0);
+          mc.ct_h = driver::encode_coef(unit(rng), "ct_h", S::kCt);
+        }
+      }
       for (int j = 0; j < kArms; ++j) {
         in.m[j] = extreme ? any_word(rng) : small_p(rng) * 64;
         mc.gamma[j] = driver::encode_coef(std::exp2(-14 * unit(rng)), "gamma", S::kGamma);
@@ -117,15 +131,19 @@ void expect_rtl_tem_matches_bit_true() {
       }
       tem->d_i = std::uint32_t(in.d);
       tem->len_i = std::uint32_t(in.L);
-      const Coef* coefs[12 + 2 * kMaxArms] = {&mc.alpha, &mc.beta, &mc.kt,
+      const Coef* coefs[15 + 2 * kMaxArms] = {&mc.alpha, &mc.beta, &mc.kt,
                                               &mc.ct,    &mc.a_min, &mc.a_max};
       if constexpr (kDamper) {
         const Coef* damper[6] = {&mc.d_lo, &mc.d_span, &mc.zk, &mc.s_base, &mc.s_c2, &mc.ka};
         for (int c = 0; c < 6; ++c) coefs[6 + c] = damper[c];
       }
+      if constexpr (kHardening) {
+        const Coef* hard[3] = {&mc.hk, &mc.s_k, &mc.ct_h};
+        for (int c = 0; c < 3; ++c) coefs[6 + kDamperCoefs + c] = hard[c];
+      }
       for (int j = 0; j < kMaxArms; ++j) {
-        coefs[6 + kDamperCoefs + 2 * j] = &mc.gamma[j];
-        coefs[7 + kDamperCoefs + 2 * j] = &mc.k2t[j];
+        coefs[6 + kDamperCoefs + kHardCoefs + 2 * j] = &mc.gamma[j];
+        coefs[7 + kDamperCoefs + kHardCoefs + 2 * j] = &mc.k2t[j];
       }
       // coef_i packs the 24-bit fields (six, the damper's six, two per arm) into 32-bit words.
       for (int w = 0; w < kCoefWords; ++w) tem->coef_i[w] = 0;
@@ -138,7 +156,7 @@ void expect_rtl_tem_matches_bit_true() {
       tem->mat_flags_i = mc.flags;
       tem->idx_i = cycle & 0xFFFF;
       std::uint32_t status = 0;
-      const TemOut out = tem_edge<Fmt, kArms, kDamper>(in, mc, &status);
+      const TemOut out = tem_edge<Fmt, kArms, kDamper, kHardening>(in, mc, &status);
       pending.push_back({cycle & 0xFFFF, out, status});
     }
     tem->eval();
@@ -192,6 +210,10 @@ TEST(RtlTemDamper, MatchesTheBitTrueDamperTemWordForWordOnRandomInputsAtOneEdgeP
 
 TEST(RtlTemDamperArms8, MatchesTheBitTrueDamperAndEightArmTemWordForWordAtOneEdgePerClock) {
   expect_rtl_tem_matches_bit_true<Vrheo_tem_damper_arms8, 8, true>();
+}
+
+TEST(RtlTemHardening, MatchesTheBitTrueHardeningTemWordForWordOnRandomInputsAtOneEdgePerClock) {
+  expect_rtl_tem_matches_bit_true<Vrheo_tem_hardening, 0, false, true>();
 }
 
 }  // namespace
