@@ -182,9 +182,9 @@ inline constexpr int kTemLatency = 40;
 inline constexpr int kMpmLatency = 8;
 inline constexpr int kTemDrainCycles = kTemLatency + 4;
 // A TEM with strain hardening computes its coefficients from l, which it has at stage 21
-// (rtl/rheo_harden.sv, 43 stages from stage 17): everything from the coefficient products
+// (rtl/rheo_harden.sv, 44 stages from stage 17): everything from the coefficient products
 // on runs this much later, in the TEM's latency and in the edge pass's drain.
-inline constexpr int kHardTemExtra = 31;
+inline constexpr int kHardTemExtra = 32;
 constexpr int tem_latency(bool hardening) { return kTemLatency + (hardening ? kHardTemExtra : 0); }
 constexpr int tem_drain_cycles(bool hardening) { return tem_latency(hardening) + 4; }
 static_assert(tem_drain_cycles(false) == kTemDrainCycles);

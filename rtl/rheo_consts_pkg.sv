@@ -67,7 +67,7 @@ package rheo_consts_pkg;
   localparam int HardFracH = 28;  // fractional bits of strain hardening's h = H e^2
   localparam int HardHBits = 40;  // h: unsigned, clamped and flagged beyond
   localparam int HardSBits = 48;  // s with hardening: signed, saturated
-  localparam int HardTemExtra = 31;  // rheo_tem with StrainHardening: extra latency
+  localparam int HardTemExtra = 32;  // rheo_tem with StrainHardening: extra latency
   localparam int RegionMaterialHardening = 23;  // region
   localparam int HardeningCoefs = 3;  // hardening material entry: packed coefficients
   localparam int NumRegions = 24;  // regions

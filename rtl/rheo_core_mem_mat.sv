@@ -1,8 +1,9 @@
 // Material table of rheo_core: per material the packed TEM coefficients and flags (and,
 // with MaxwellArms = K, each arm's gamma_j and k2t_j). Every lane reads it in the same clock, so
 // each coefficient is a small LUT RAM with one registered read per lane (the edge pass's
-// stage 2), written by the host only while idle. With SeriesDamper = 1 the damper's six coefficients
-// (region MaterialDamper) follow the base ones.
+// stage 2), written by the host only while idle. With SeriesDamper = 1 the damper's six
+// coefficients (region MaterialDamper) follow the base ones, with StrainHardening = 1
+// hardening's three (region MaterialHardening) after them, then the arms'.
 module rheo_core_mem_mat #(
   parameter int Lanes = 1,
   parameter int MaxMaterials = 16,

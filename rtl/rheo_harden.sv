@@ -12,11 +12,11 @@
 // clocks before l: L's reciprocal is ready when l - L is normalised.
 // Register index t of each value (len_i and coef_i are stage 0, l_i stage 4):
 //    8 1/L (rheo_recip)    5 l - L     8 (l - L)^    9 (l - L)^ / L   12 e^
-//   13 e^2                16 e^2^      17 hk e^2^    19 h as a word   20 h clamped
-//   21 g = 1 + h          22 bit lengths             24 g and h as factors
-//   25 s_k h              27 as a word 28 s          36 1/s (rheo_recip)
-//   37 g/s, h/s           38 renormalised            39 coefficient products, shifts
-//   40 shifts clamped     42 rounded (rheo_round_shift)  43 outputs
+//   13 e^2                16 e^2^      17 h's shift  18 hk e^2^       20 h as a word
+//   21 h clamped, g = 1 + h    22 / 23 bit lengths of h / g    24 / 25 h / g as factors
+//   23 s_k h's shift      24 clamped   25 s_k h      27 as a word     28 s
+//   37 1/s (rheo_recip, two stages for s's bit length)  38 g/s, h/s      39 renormalised
+//   40 coefficient products, shifts    41 shifts clamped    43 rounded   44 outputs
 // Multipliers: 2 (1/L) + 1 (e) + 1 (e^2) + 1 (hk) + 1 (s_k) + 2 (1/s) + 2 (g/s, h/s)
 // + 5 (coefficients) = 15.
 module rheo_harden #(
@@ -29,8 +29,8 @@ module rheo_harden #(
   input  logic signed [W-1:0]      len_i,   // L (stage 0)
   input  logic [NumIn*CoefW-1:0]   coef_i,  // stage 0
   input  logic signed [W-1:0]      l_i,     // the edge's length (stage 4)
-  output logic [NumOut*CoefW-1:0]  coef_o,  // stage 43
-  output logic                     clip_o   // a value saturated or a shift was clamped (43)
+  output logic [NumOut*CoefW-1:0]  coef_o,  // stage 44
+  output logic                     clip_o   // a value saturated or a shift was clamped (44)
 );
   localparam int B = rheo_consts_pkg::OperandBits;
   localparam int PW = 2 * B;
@@ -44,7 +44,7 @@ module rheo_harden #(
   localparam int EW = 6;
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CHk = 4, CSk = 5, CCth = 6;
   localparam int OCth = 4;  // output index of cth (the others keep their input index)
-  localparam int Last = 43;
+  localparam int Last = 44;
 
   if (MantW != B) begin : g_width_check
     $error("rheo_harden: coefficient mantissas are 18-bit operands");
@@ -116,96 +116,106 @@ module rheo_harden #(
   end
   logic signed [B-1:0] e2m16;
   logic [EW-1:0] s2_16;
-  logic signed [7:0] ee16;
   rheo_normalize #(.N(1), .InW(PW), .B(B), .ShiftW(EW)) u_norm_e2 (
     .clk_i(clk_i), .v_i(e2_13_q), .mant_o(e2m16), .shift_o(s2_16));
-  rheo_delay #(.W(8), .N(3)) u_ee_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(ee13_q), .q_o(ee16));
+  // hk's shift less 2 ee and FracH, summed beside the normalisation (stage 14)
+  logic [CoefW-1:0] hk13;
+  logic [MantW-1:0] hkm17;
+  rheo_delay #(.W(CoefW), .N(13)) u_hk_d1 (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[CHk]), .q_o(hk13));
+  rheo_delay #(.W(MantW), .N(4)) u_hk_d2 (.clk_i(clk_i), .rst_ni(1'b1), .d_i(hk13[MantW-1:0]), .q_o(hkm17));
+  logic signed [9:0] hpart14_q, hpart16;
+  always_ff @(posedge clk_i)  // biased by HW
+    hpart14_q <= shift_of(hk13[CoefW-1:MantW]) - 10'(ee13_q) - 10'(ee13_q) - 10'(FracH) +
+                 10'(HW);
+  rheo_delay #(.W(10), .N(2)) u_hpart_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(hpart14_q), .q_o(hpart16));
 
-  // ---- stage 17: hk e2^; stages 18-19: h = that 2^-(hk.shift - s2 - 2 ee - FracH) ----
-  logic [CoefW-1:0] hk16;
-  rheo_delay #(.W(CoefW), .N(16)) u_hk_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[CHk]), .q_o(hk16));
-  logic signed [PW-1:0] hprod17_q;
-  logic [6:0] hsb17_q;
-  logic signed [9:0] hsh_w;
-  always_comb begin
-    hsh_w = shift_of(hk16[CoefW-1:MantW]) - 10'(s2_16) - 10'(ee16) - 10'(ee16) - 10'(FracH);
-    // beyond 2B every product rounds to 0, beyond -HW every non-zero one overflows
-    if (hsh_w > 10'(2 * B)) hsh_w = 10'(2 * B);
-    if (hsh_w < -10'(HW)) hsh_w = -10'(HW);
-  end
+  // ---- stage 17: e2^ and the shift hk.shift - s2 - 2 ee - FracH; 18: hk e2^, the shift
+  //      clamped; 19-20: h = hk e2^ 2^-shift ----
+  logic signed [B-1:0] e2m17_q;
+  logic signed [9:0] hsh17_q;  // biased by HW
   always_ff @(posedge clk_i) begin
-    hprod17_q <= e2m16 * $signed(hk16[MantW-1:0]);
-    hsb17_q <= 7'(hsh_w + 10'(HW));
+    e2m17_q <= e2m16;
+    hsh17_q <= hpart16 - 10'(s2_16);
   end
-  logic signed [HW+1:0] hw19;
+  // beyond 2B every product rounds to 0, beyond -HW every non-zero one overflows
+  logic signed [PW-1:0] hprod18_q;
+  logic [6:0] hsb18_q;
+  always_ff @(posedge clk_i) begin
+    hprod18_q <= e2m17_q * $signed(hkm17);
+    if (hsh17_q > 10'(2 * B + HW)) hsb18_q <= 7'(2 * B + HW);
+    else if (hsh17_q < 0) hsb18_q <= '0;
+    else hsb18_q <= 7'(hsh17_q);
+  end
+  logic signed [HW+1:0] hw20;
   logic unused_hclip;  // a saturated word is beyond HMax (or <= 0) below
   rheo_round_shift #(.InW(PW), .OutW(HW+2), .ShiftW(7), .MaxLeft(HW)) u_h (
-    .clk_i(clk_i), .v_i(hprod17_q), .sb_i(hsb17_q), .out_o(hw19), .clip_o(unused_hclip));
+    .clk_i(clk_i), .v_i(hprod18_q), .sb_i(hsb18_q), .out_o(hw20), .clip_o(unused_hclip));
 
-  // ---- stage 20: h clamped to [0, 2^HW - 1]; 21: g = 1 + h; 22: bit lengths ----
-  logic lbad19;
-  rheo_delay #(.W(1), .N(11)) u_lbad_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(lbad8), .q_o(lbad19));
+  // ---- stage 21: h clamped to [0, 2^HW - 1] and g = 1 + h; bit lengths: h's at 22 (from
+  //      the unclamped word, the clamp's two ends set apart), g's at 23 ----
+  logic lbad20;
+  rheo_delay #(.W(1), .N(12)) u_lbad_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(lbad8), .q_o(lbad20));
   localparam logic signed [HW+1:0] HMax = (HW+2)'((64'd1 << HW) - 1);
-  logic [HW-1:0] h20_q, h21_q;
-  logic hflag20_q;
-  logic [HW:0] g21_q;
-  always_ff @(posedge clk_i) begin
-    if (lbad19 || hw19 <= 0) h20_q <= '0;
-    else if (hw19 > HMax) h20_q <= HMax[HW-1:0];
-    else h20_q <= hw19[HW-1:0];
-    hflag20_q <= lbad19 || hw19 > HMax;
-    g21_q <= (HW+1)'(h20_q) + (HW+1)'(1 << FracH);
-    h21_q <= h20_q;
-  end
-  logic [5:0] ng22_q, nh22_q;
-  logic [HW:0] g22_q;
-  logic [HW-1:0] h22_q;
-  logic [5:0] ng_w, nh_w;
-  logic [HW:0] g_higher;
-  logic [HW-1:0] h_higher;
+  logic [HW-1:0] h_w, h21_q, h22_q;
+  logic hflag21_q, hzero21_q;
+  logic [HW:0] g21_q, g22_q, g23_q;
   always_comb begin
-    g_higher[HW] = 1'b0;
-    for (int b = HW - 1; b >= 0; b--) g_higher[b] = g_higher[b+1] | g21_q[b+1];
-    h_higher[HW-1] = 1'b0;
-    for (int b = HW - 2; b >= 0; b--) h_higher[b] = h_higher[b+1] | h21_q[b+1];
-    ng_w = '0;
-    for (int b = 0; b <= HW; b++) ng_w = ng_w | ((g21_q[b] & ~g_higher[b]) ? 6'(b + 1) : 6'd0);
-    nh_w = '0;
-    for (int b = 0; b < HW; b++) nh_w = nh_w | ((h21_q[b] & ~h_higher[b]) ? 6'(b + 1) : 6'd0);
+    if (lbad20 || hw20 <= 0) h_w = '0;
+    else if (hw20 > HMax) h_w = HMax[HW-1:0];
+    else h_w = hw20[HW-1:0];
   end
   always_ff @(posedge clk_i) begin
-    ng22_q <= ng_w;
-    nh22_q <= nh_w;
-    g22_q <= g21_q;
+    h21_q <= h_w;
+    g21_q <= (HW+1)'(h_w) + (HW+1)'(1 << FracH);
+    hflag21_q <= lbad20 || hw20 > HMax;
+    hzero21_q <= lbad20 || hw20 <= 0;
     h22_q <= h21_q;
+    g22_q <= g21_q;
+    g23_q <= g22_q;
   end
+  logic [5:0] nh_raw22, nh22, ng23;
+  rheo_bitlen #(.InW(HW), .NW(6)) u_nh (.clk_i(clk_i), .v_i(hw20[HW-1:0]), .n_o(nh_raw22));
+  logic hzero22_q, hbig22_q;
+  always_ff @(posedge clk_i) begin
+    hzero22_q <= hzero21_q;
+    hbig22_q <= hflag21_q && !hzero21_q;
+  end
+  assign nh22 = hzero22_q ? 6'd0 : (hbig22_q ? 6'(HW) : nh_raw22);
+  rheo_bitlen #(.InW(HW+1), .NW(6)) u_ng (.clk_i(clk_i), .v_i(g21_q), .n_o(ng23));
 
-  // ---- stages 23-24: g and h as factors m 2^-(B-2) 2^e, m = round(word 2^-(n - (B-2))) ----
-  logic signed [B-1:0] gm24, hm24;
+  // ---- stages 23-24 (h) and 24-25 (g): as factors m 2^-(B-2) 2^e, m = round(word
+  //      2^-(n - (B-2))) ----
+  logic signed [B-1:0] gm25, hm24;
   logic unused_gclip, unused_hmclip;  // m <= 2^(B-2): never clips
   rheo_round_shift #(.InW(HW+2), .OutW(B), .ShiftW(7), .MaxLeft(B - 2)) u_gm (
-    .clk_i(clk_i), .v_i((HW+2)'(g22_q)), .sb_i(7'(ng22_q)), .out_o(gm24), .clip_o(unused_gclip));
+    .clk_i(clk_i), .v_i((HW+2)'(g23_q)), .sb_i(7'(ng23)), .out_o(gm25), .clip_o(unused_gclip));
   rheo_round_shift #(.InW(HW+2), .OutW(B), .ShiftW(7), .MaxLeft(B - 2)) u_hm (
-    .clk_i(clk_i), .v_i((HW+2)'(h22_q)), .sb_i(7'(nh22_q)), .out_o(hm24), .clip_o(unused_hmclip));
-  logic [5:0] ng24, nh24;
-  rheo_delay #(.W(12), .N(2)) u_n_d (
-    .clk_i(clk_i), .rst_ni(1'b1), .d_i({ng22_q, nh22_q}), .q_o({ng24, nh24}));
+    .clk_i(clk_i), .v_i((HW+2)'(h22_q)), .sb_i(7'(nh22)), .out_o(hm24), .clip_o(unused_hmclip));
+  logic [5:0] nh24;
+  rheo_delay #(.W(6), .N(2)) u_nh_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(nh22), .q_o(nh24));
 
   // ---- stage 25: s_k h; stages 26-27: as a word (FracS); 28: s = 1 + that ----
-  logic [CoefW-1:0] sk24;
-  rheo_delay #(.W(CoefW), .N(24)) u_sk_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[CSk]), .q_o(sk24));
+  // The product's shift s_k.shift + (B-2) - (nh - FracH) - FracS, biased by SW, from nh at
+  // stage 22: summed at 23, clamped to [0, 2B + SW] at 24 (beyond 2B every product rounds
+  // to 0, beyond -SW every non-zero one overflows).
+  logic [CoefW-1:0] sk22;
+  logic [MantW-1:0] skm24;
+  rheo_delay #(.W(CoefW), .N(22)) u_sk_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[CSk]), .q_o(sk22));
+  rheo_delay #(.W(MantW), .N(2)) u_skm_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(sk22[MantW-1:0]), .q_o(skm24));
+  logic signed [9:0] sksh23_q;
+  logic [6:0] sksb24_q;
+  always_ff @(posedge clk_i) begin
+    sksh23_q <= shift_of(sk22[CoefW-1:MantW]) - 10'(nh22) +
+                10'(B - 2 + FracH - FracS + SW);
+    if (sksh23_q > 10'(2 * B + SW)) sksb24_q <= 7'(2 * B + SW);
+    else if (sksh23_q < 0) sksb24_q <= '0;
+    else sksb24_q <= 7'(sksh23_q);
+  end
   logic signed [PW-1:0] skprod25_q;
   logic [6:0] sksb25_q;
-  logic signed [9:0] sksh_w;
-  always_comb begin
-    // s_k.shift + (B-2) - (nh - FracH) - FracS
-    sksh_w = shift_of(sk24[CoefW-1:MantW]) + 10'(B - 2) - 10'(nh24) + 10'(FracH) - 10'(FracS);
-    if (sksh_w > 10'(2 * B)) sksh_w = 10'(2 * B);
-    if (sksh_w < -10'(SW)) sksh_w = -10'(SW);
-  end
   always_ff @(posedge clk_i) begin
-    skprod25_q <= hm24 * $signed(sk24[MantW-1:0]);
-    sksb25_q <= 7'(sksh_w + 10'(SW));
+    skprod25_q <= hm24 * $signed(skm24);
+    sksb25_q <= sksb24_q;
   end
   logic signed [SW-1:0] sterm27;
   logic clip_sterm27;
@@ -221,49 +231,51 @@ module rheo_harden #(
     else s28_q <= s_w[SW-1:0];
   end
 
-  // ---- stages 29-36: 1/s = y 2^-(B-2) 2^(FracS + 1 - nb) ----
-  logic signed [B-1:0] y36;
-  logic [5:0] nb36;
-  logic snp36;  // s <= 0 (never with the host's tables): flagged
-  rheo_recip #(.InW(SW), .NonPosNb(FracS + 1)) u_recip_s (
-    .clk_i(clk_i), .v_i(s28_q), .y_o(y36), .nb_o(nb36), .nonpos_o(snp36));
+  // ---- stages 29-37: 1/s = y 2^-(B-2) 2^(FracS + 1 - nb) ----
+  logic signed [B-1:0] y37;
+  logic [5:0] nb37;
+  logic snp37;  // s <= 0 (never with the host's tables): flagged
+  rheo_recip #(.InW(SW), .NonPosNb(FracS + 1), .LenStages(2)) u_recip_s (
+    .clk_i(clk_i), .v_i(s28_q), .y_o(y37), .nb_o(nb37), .nonpos_o(snp37));
 
-  // ---- stage 37: g/s, h/s; 38: renormalised (hls::factor_mul) ----
-  logic signed [B-1:0] gm36, hm36;
-  logic [5:0] ng36, nh36;
-  rheo_delay #(.W(2*B), .N(12)) u_gh_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i({gm24, hm24}), .q_o({gm36, hm36}));
-  rheo_delay #(.W(12), .N(12)) u_ngh_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i({ng24, nh24}), .q_o({ng36, nh36}));
-  logic signed [PW-1:0] pg37_q, ph37_q;
-  logic signed [9:0] ey37_q, eg37_q, eh37_q;  // exponents of 1/s, g/s, h/s
-  logic hz37_q;
-  logic signed [B-1:0] y37_q;
+  // ---- stage 38: g/s, h/s; 39: renormalised (hls::factor_mul) ----
+  logic signed [B-1:0] gm37, hm37;
+  logic [5:0] ng37, nh37;
+  rheo_delay #(.W(B), .N(12)) u_gm_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(gm25), .q_o(gm37));
+  rheo_delay #(.W(B), .N(13)) u_hm_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(hm24), .q_o(hm37));
+  rheo_delay #(.W(6), .N(14)) u_ng_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(ng23), .q_o(ng37));
+  rheo_delay #(.W(6), .N(13)) u_nh_d2 (.clk_i(clk_i), .rst_ni(1'b1), .d_i(nh24), .q_o(nh37));
+  logic signed [PW-1:0] pg38_q, ph38_q;
+  logic signed [9:0] ey38_q, eg38_q, eh38_q;  // exponents of 1/s, g/s, h/s
+  logic hz38_q;
+  logic signed [B-1:0] y38_q;
   always_ff @(posedge clk_i) begin
-    pg37_q <= gm36 * y36;
-    ph37_q <= hm36 * y36;
-    ey37_q <= 10'(FracS + 1) - 10'(nb36);
-    eg37_q <= 10'(ng36) - 10'(FracH) + 10'(FracS + 1) - 10'(nb36);
-    eh37_q <= 10'(nh36) - 10'(FracH) + 10'(FracS + 1) - 10'(nb36);
-    hz37_q <= hm36 == '0;
-    y37_q <= y36;
+    pg38_q <= gm37 * y37;
+    ph38_q <= hm37 * y37;
+    ey38_q <= 10'(FracS + 1) - 10'(nb37);
+    eg38_q <= 10'(ng37) - 10'(FracH) + 10'(FracS + 1) - 10'(nb37);
+    eh38_q <= 10'(nh37) - 10'(FracH) + 10'(FracS + 1) - 10'(nb37);
+    hz38_q <= hm37 == '0;
+    y38_q <= y37;
   end
   // f = p 2^-(B-3) (exponent - 1) when p < 2^(2B-5), else p 2^-(B-2); rounded to nearest
   function automatic logic signed [B-1:0] renorm_mant(input logic signed [PW-1:0] p);
     if (p < PW'(64'd1 << (2 * B - 5))) renorm_mant = B'((p + PW'(1 << (B - 4))) >>> (B - 3));
     else renorm_mant = B'((p + PW'(1 << (B - 3))) >>> (B - 2));
   endfunction
-  logic signed [B-1:0] fm38_q [3];  // factors of {h/s, g/s, 1/s}
-  logic signed [9:0] fe38_q [3];
+  logic signed [B-1:0] fm39_q [3];  // factors of {h/s, g/s, 1/s}
+  logic signed [9:0] fe39_q [3];
   localparam int FY = 0, FG = 1, FH = 2;
   always_ff @(posedge clk_i) begin
-    fm38_q[FY] <= y37_q;
-    fe38_q[FY] <= ey37_q;
-    fm38_q[FG] <= renorm_mant(pg37_q);
-    fe38_q[FG] <= eg37_q - ((pg37_q < PW'(64'd1 << (2 * B - 5))) ? 10'd1 : 10'd0);
-    fm38_q[FH] <= hz37_q ? '0 : renorm_mant(ph37_q);
-    fe38_q[FH] <= eh37_q - ((ph37_q < PW'(64'd1 << (2 * B - 5))) ? 10'd1 : 10'd0);
+    fm39_q[FY] <= y38_q;
+    fe39_q[FY] <= ey38_q;
+    fm39_q[FG] <= renorm_mant(pg38_q);
+    fe39_q[FG] <= eg38_q - ((pg38_q < PW'(64'd1 << (2 * B - 5))) ? 10'd1 : 10'd0);
+    fm39_q[FH] <= hz38_q ? '0 : renorm_mant(ph38_q);
+    fe39_q[FH] <= eh38_q - ((ph38_q < PW'(64'd1 << (2 * B - 5))) ? 10'd1 : 10'd0);
   end
 
-  // ---- stage 39: the coefficients times their factor; 40: shifts; 41-42: rounded ----
+  // ---- stage 40: the coefficients times their factor; 41: shifts; 42-43: rounded ----
   // alpha: g/s, beta: 1/s, kt: g/s, ct: 1/s, cth (from ct_h): h/s
   function automatic int factor_of_out(input int o);
     case (o)
@@ -275,66 +287,82 @@ module rheo_harden #(
   function automatic int input_of_out(input int o);
     input_of_out = (o == OCth) ? CCth : o;
   endfunction
-  logic [CoefW-1:0] c19 [NumOut], c38 [NumOut];
-  logic signed [PW-1:0] cp39_q [NumOut], cp40_q [NumOut];
-  logic signed [9:0] sh39_q [NumOut];
-  logic zero39_q [NumOut], zero40_q [NumOut], zero42 [NumOut];
-  logic [6:0] rsb40_q [NumOut];
-  logic signed [9:0] osh40_q [NumOut];
-  logic [5:0] ost42 [NumOut];
-  logic signed [MantW-1:0] m42 [NumOut];
+  logic [CoefW-1:0] c39 [NumOut];
+  logic signed [PW-1:0] cp40_q [NumOut], cp41_q [NumOut];
+  logic signed [9:0] sh40_q [NumOut];
+  logic zero40_q [NumOut], zero41_q [NumOut], zero43 [NumOut];
+  logic [6:0] rsb41_q [NumOut];
+  logic signed [9:0] osh41_q [NumOut];
+  logic [5:0] ost43 [NumOut];
+  logic signed [MantW-1:0] m43 [NumOut];
   logic [NumOut-1:0] shclip_w;
-  logic signed [9:0] shl_w [NumOut];
-  logic signed [9:0] drop_w [NumOut];
+  logic signed [9:0] osh_w [NumOut];
+  logic [6:0] rsb_w [NumOut];
   for (genvar o = 0; o < NumOut; o++) begin : g_out
     localparam int F = factor_of_out(o);
-    // the coefficient waits 38 clocks (two lines: one holds at most 33)
-    rheo_delay #(.W(CoefW), .N(19)) u_c_d1 (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[input_of_out(o)]), .q_o(c19[o]));
-    rheo_delay #(.W(CoefW), .N(19)) u_c_d2 (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c19[o]), .q_o(c38[o]));
+    // the coefficient waits 39 clocks
+    rheo_delay #(.W(CoefW), .N(39)) u_c_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[input_of_out(o)]), .q_o(c39[o]));
     always_ff @(posedge clk_i) begin
-      cp39_q[o] <= $signed(c38[o][MantW-1:0]) * fm38_q[F];
-      sh39_q[o] <= shift_of(c38[o][CoefW-1:MantW]) - fe38_q[F];
-      zero39_q[o] <= fm38_q[F] == '0 || c38[o][MantW-1:0] == '0;
+      cp40_q[o] <= $signed(c39[o][MantW-1:0]) * fm39_q[F];
+      sh40_q[o] <= shift_of(c39[o][CoefW-1:MantW]) - fe39_q[F];
+      zero40_q[o] <= fm39_q[F] == '0 || c39[o][MantW-1:0] == '0;
     end
+    // Below the format the shift is clamped (and flagged); above it the product drops
+    // drop = min(sh - hi, 2B) mantissa bits. The three comparisons with constants and the
+    // candidate values run side by side, and one multiplexer picks (no chain of clamp,
+    // subtract and clamp in one clock):
+    //   sh < lo: shift lo, drop 0;  sh <= hi: sh, 0;  sh <= hi + 2B: hi, sh - hi;
+    //   beyond: sh - 2B, 2B.
+    localparam logic signed [9:0] Lo = 10'(shift_lo(o));
+    localparam logic signed [9:0] Hi = 10'(ShiftHi);
+    localparam logic signed [9:0] Hi2B = 10'(ShiftHi + 2 * B);
     always_comb begin
-      // below the format: clamped (and flagged); above it: mantissa bits dropped
-      shl_w[o] = sh39_q[o] < 10'(shift_lo(o)) ? 10'(shift_lo(o)) : sh39_q[o];
-      shclip_w[o] = !zero39_q[o] && sh39_q[o] < 10'(shift_lo(o));
-      drop_w[o] = shl_w[o] - 10'(ShiftHi);
-      if (drop_w[o] < 0) drop_w[o] = '0;
-      if (drop_w[o] > 10'(2 * B)) drop_w[o] = 10'(2 * B);
+      shclip_w[o] = !zero40_q[o] && sh40_q[o] < Lo;
+      if (sh40_q[o] < Lo) begin
+        osh_w[o] = Lo;
+        rsb_w[o] = 7'(B - 2);
+      end else if (sh40_q[o] <= Hi) begin
+        osh_w[o] = sh40_q[o];
+        rsb_w[o] = 7'(B - 2);
+      end else if (sh40_q[o] <= Hi2B) begin
+        osh_w[o] = Hi;
+        rsb_w[o] = 7'(sh40_q[o] - 10'(ShiftHi - (B - 2)));
+      end else begin
+        osh_w[o] = sh40_q[o] - 10'(2 * B);
+        rsb_w[o] = 7'(3 * B - 2);
+      end
     end
     always_ff @(posedge clk_i) begin
-      cp40_q[o] <= cp39_q[o];
-      rsb40_q[o] <= 7'(drop_w[o] + 10'(B - 2));
-      osh40_q[o] <= shl_w[o] - drop_w[o];
-      zero40_q[o] <= zero39_q[o];
+      cp41_q[o] <= cp40_q[o];
+      rsb41_q[o] <= rsb_w[o];
+      osh41_q[o] <= osh_w[o];
+      zero41_q[o] <= zero40_q[o];
     end
     logic unused_mclip;  // |mant| <= |c.mant|: never clips
     logic unused_out;
     assign unused_out = unused_mclip;
     rheo_round_shift #(.InW(PW), .OutW(MantW), .ShiftW(7), .MaxLeft(0)) u_mant (
-      .clk_i(clk_i), .v_i(cp40_q[o]), .sb_i(rsb40_q[o]), .out_o(m42[o]), .clip_o(unused_mclip));
-    logic [6:0] st_pack40;
-    assign st_pack40 = {zero40_q[o], 6'(osh40_q[o] + 10'(Bias))};
-    logic [6:0] st42;
-    rheo_delay #(.W(7), .N(2)) u_st_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(st_pack40), .q_o(st42));
-    assign zero42[o] = st42[6];
-    assign ost42[o] = st42[5:0];
-    // stage 43: packed; a zero factor or mantissa gives {ShiftHi, 0} (hls::scaled_coef)
+      .clk_i(clk_i), .v_i(cp41_q[o]), .sb_i(rsb41_q[o]), .out_o(m43[o]), .clip_o(unused_mclip));
+    logic [6:0] st_pack41;
+    assign st_pack41 = {zero41_q[o], 6'(osh41_q[o] + 10'(Bias))};
+    logic [6:0] st43;
+    rheo_delay #(.W(7), .N(2)) u_st_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(st_pack41), .q_o(st43));
+    assign zero43[o] = st43[6];
+    assign ost43[o] = st43[5:0];
+    // stage 44: packed; a zero factor or mantissa gives {ShiftHi, 0} (hls::scaled_coef)
     always_ff @(posedge clk_i) begin
-      if (zero42[o]) coef_o[o*CoefW +: CoefW] <= {6'(ShiftHi + Bias), MantW'(0)};
-      else coef_o[o*CoefW +: CoefW] <= {ost42[o], m42[o]};
+      if (zero43[o]) coef_o[o*CoefW +: CoefW] <= {6'(ShiftHi + Bias), MantW'(0)};
+      else coef_o[o*CoefW +: CoefW] <= {ost43[o], m43[o]};
     end
   end
 
   always_comb begin
     for (int s = 0; s <= Last; s++) flag_at[s] = 1'b0;
-    flag_at[20] = hflag20_q;
+    flag_at[21] = hflag21_q;
     flag_at[27] = clip_sterm27;
     flag_at[28] = clip_s28_q;
-    flag_at[36] = snp36;
-    flag_at[39] = |shclip_w;
+    flag_at[37] = snp37;
+    flag_at[40] = |shclip_w;
   end
   logic unused;
   assign unused = ^{unused_hclip, unused_gclip, unused_hmclip};

@@ -185,3 +185,38 @@ module rheo_delay_line #(
     end
   end
 endmodule
+
+// Bit length of an unsigned word (the position of its leading one plus one; 0 for 0), in
+// two stages so that a wide word meets the clock: per 8-bit group whether it is non-zero and
+// its own bit length, then the highest non-zero group's. Latency 2 (v_i is stage 0).
+module rheo_bitlen #(
+  parameter int InW = 40,
+  parameter int NW = 6
+) (
+  input  logic           clk_i,
+  input  logic [InW-1:0] v_i,
+  output logic [NW-1:0]  n_o
+);
+  localparam int G = 8;
+  localparam int NG = (InW + G - 1) / G;
+  logic [NG*G-1:0] v;
+  assign v = (NG*G)'(v_i);
+  function automatic logic [3:0] len8(input logic [G-1:0] x);
+    len8 = '0;
+    for (int b = 0; b < G; b++) if (x[b]) len8 = 4'(b + 1);
+  endfunction
+  logic [NG-1:0] any_q;
+  logic [3:0] len_q [NG];
+  always_ff @(posedge clk_i) begin
+    for (int k = 0; k < NG; k++) begin
+      any_q[k] <= |v[k*G +: G];
+      len_q[k] <= len8(v[k*G +: G]);
+    end
+  end
+  logic [NW-1:0] n_w;
+  always_comb begin
+    n_w = '0;
+    for (int k = 0; k < NG; k++) if (any_q[k]) n_w = NW'(k * G) + NW'(len_q[k]);
+  end
+  always_ff @(posedge clk_i) n_o <= n_w;
+endmodule

@@ -4,10 +4,12 @@
 // Newton-Raphson step y0 (2 - m y0) (rheo::hls::recip_mantissa). 1/v = y 2^-(B-2) 2^(1-nb).
 // v <= 0 raises nonpos_o and gives y = 1 and nb = NonPosNb.
 // Register index t of each value (v_i is stage 0): 1 nb, 3 m, 4 seed y0, 5 m y0,
-// 6 2 - m y0, 7 y0 (2 - m y0), 8 y (outputs). Multipliers: 2.
+// 6 2 - m y0, 7 y0 (2 - m y0), 8 y (outputs). Multipliers: 2. With LenStages = 2 the bit
+// length takes two stages (rheo_bitlen, for wide words) and every later index is one more.
 module rheo_recip #(
   parameter int InW = 48,
   parameter int NonPosNb = 0,
+  parameter int LenStages = 1,  // 1 or 2
   localparam int B = rheo_consts_pkg::OperandBits
 ) (
   input  logic                  clk_i,
@@ -23,21 +25,39 @@ module rheo_recip #(
     $error("rheo_recip: nb must fit six bits");
   end
 
-  // ---- stage 1: bit length, found in parallel (bit b leads iff no higher bit is set) ----
-  logic [5:0] nb_w, nb1_q;
-  logic [InW-2:0] higher;
+  // ---- stage 1 (or 1-2): bit length ----
+  logic [5:0] nb1_q;
   logic signed [InW-1:0] v1_q;
   logic nonpos1_q;
-  always_comb begin
-    higher[InW-2] = 1'b0;
-    for (int b = InW - 3; b >= 0; b--) higher[b] = higher[b+1] | v_i[b+1];
-    nb_w = '0;
-    for (int b = 0; b < InW - 1; b++) nb_w = nb_w | ((v_i[b] & ~higher[b]) ? 6'(b + 1) : 6'd0);
+  if (LenStages == 1) begin : g_len1
+    // found in parallel (bit b leads iff no higher bit is set)
+    logic [5:0] nb_w;
+    logic [InW-2:0] higher;
+    always_comb begin
+      higher[InW-2] = 1'b0;
+      for (int b = InW - 3; b >= 0; b--) higher[b] = higher[b+1] | v_i[b+1];
+      nb_w = '0;
+      for (int b = 0; b < InW - 1; b++) nb_w = nb_w | ((v_i[b] & ~higher[b]) ? 6'(b + 1) : 6'd0);
+    end
+    always_ff @(posedge clk_i) begin
+      nb1_q <= nb_w;
+      v1_q <= v_i;
+      nonpos1_q <= v_i[InW-1] || v_i == '0;
+    end
+  end else begin : g_len2
+    // two stages; v and its sign wait one clock (a negative v's bit length is not used)
+    logic signed [InW-1:0] v_q;
+    logic nonpos_q;
+    rheo_bitlen #(.InW(InW - 1), .NW(6)) u_len (.clk_i(clk_i), .v_i(v_i[InW-2:0]), .n_o(nb1_q));
+    always_ff @(posedge clk_i) begin
+      v_q <= v_i;
+      nonpos_q <= v_i[InW-1] || v_i == '0;
+      v1_q <= v_q;
+      nonpos1_q <= nonpos_q;
+    end
   end
-  always_ff @(posedge clk_i) begin
-    nb1_q <= nb_w;
-    v1_q <= v_i;
-    nonpos1_q <= v_i[InW-1] || v_i == '0;
+  if (LenStages != 1 && LenStages != 2) begin : g_len_check
+    $error("rheo_recip: LenStages must be 1 or 2");
   end
 
   // ---- stages 2-3: m = v 2^-(nb - (B-1)) (rounding up to 2 is held at the largest operand) ----

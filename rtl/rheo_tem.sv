@@ -316,10 +316,10 @@ module rheo_tem #(
   logic clip_damper29, clip_hard29;  // (clip_hard29 is at stage 29 + HD)
   if (StrainHardening != 0) begin : g_hard
     // rheo_harden takes L and the coefficients at its stage 0 = stage 17 and l at stage 21
-    // (its stage 4); its coefficients are ready at stage 17 + 43 = 29 + HD
+    // (its stage 4); its coefficients are ready at stage 17 + 44 = 29 + HD
     localparam int HardIn = 17;
-    if (HardIn + 43 != 29 + HD) begin : g_hard_latency_check
-      $error("rheo_tem: HardTemExtra must be rheo_harden's latency less 13");
+    if (HardIn + 44 != 29 + HD) begin : g_hard_latency_check
+      $error("rheo_tem: HardTemExtra must be rheo_harden's latency less 12");
     end
     logic signed [W-1:0] len17;
     logic [7*CoefW-1:0] hcoef0, hcoef17;

@@ -28,7 +28,7 @@ namespace {
 using Fmt = HardwareFormat;
 using S = CoefShifts<Fmt>;
 constexpr int kCases = 40000;
-constexpr int kLatency = 43;   // coef_o's stage
+constexpr int kLatency = 44;   // coef_o's stage
 constexpr int kLengthLead = 4;  // l_i's stage
 
 // Packs 24-bit fields into the 32-bit words of a wide Verilator port.

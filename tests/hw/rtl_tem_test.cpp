@@ -6,7 +6,7 @@
 // with the force-dependent series damper (SeriesDamper = 1: Vrheo_tem_damper, and with eight
 // arms Vrheo_tem_damper_arms8), whose six coefficients per material drive the edge's
 // alpha, beta, kt, ct through the 2^-f table and the reciprocal, and the one with strain
-// hardening (StrainHardening = 1: Vrheo_tem_hardening, 31 clocks longer), whose three
+// hardening (StrainHardening = 1: Vrheo_tem_hardening, HardTemExtra clocks longer), whose three
 // coefficients and the edge's length and L drive alpha, beta, kt, ct and cth.
 #include <gtest/gtest.h>
 
