@@ -16,9 +16,8 @@
 //    8 zk product         10 z                          11 z >= 0, table entries
 //   12 entry difference   13 times the fraction         14 qm = 2^-frac(z)
 //   15 s_c2 qm, beta qm, kt qm, ct qm                   16 mantissas of beta q, kt q, ct q
-//   17 s_c2 q as a word   18 s                          19 bit length of s
-//   21 m (s normalised)   22 seed y0                    23 m y0
-//   24 2 - m y0           25 y0 (2 - m y0)              26 y = 1/m
+//   17 s_c2 q as a word   18 s                          19-26 y = 1/m, s = m 2^(nb-1)
+//                                                        (rheo_recip)
 //   27 mantissa products, shift sums                    28 rounded, shifts clamped, packed
 //   29 outputs
 // Multipliers: 1 (zk) + 1 (interpolation) + 4 (q) + 2 (reciprocal) + 4 (1/s) = 12.
@@ -46,7 +45,6 @@ module rheo_damper #(
   localparam int TabB = rheo_consts_pkg::Exp2TableBits;
   localparam int FracS = rheo_consts_pkg::DamperFracS;
   localparam int SW = rheo_consts_pkg::DamperSBits;
-  localparam int RIdxB = rheo_consts_pkg::RecipIndexBits;
   localparam int SeedB = rheo_consts_pkg::RecipSeedBits;
   localparam int EW = 6;
   localparam int ShiftHi = (1 << rheo_consts_pkg::CoefShiftBits) - 1 - Bias;
@@ -202,56 +200,13 @@ module rheo_damper #(
     else s18_q <= s_w[SW-1:0];
   end
 
-  // ---- stages 19-21: s = m 2^(nb - 1), m in [1, 2) as Q1.16 ----
-  logic [5:0] nb19_q;
-  logic signed [SW-1:0] s19_q;
-  logic nonpos19_q;
-  // The leading one found in parallel (bit b leads iff no higher bit is set) and nb as an OR
-  // of the candidates' constants: a balanced LUT tree, not a chain of multiplexers
-  // (rheo_normalize does the same).
-  logic [5:0] nb_w;
-  logic [SW-2:0] higher;  // higher[b]: a bit above b (below the sign) is set
-  always_comb begin
-    higher[SW-2] = 1'b0;
-    for (int b = SW - 3; b >= 0; b--) higher[b] = higher[b+1] | s18_q[b+1];
-    nb_w = '0;
-    for (int b = 0; b < SW - 1; b++) nb_w = nb_w | ((s18_q[b] & ~higher[b]) ? 6'(b + 1) : 6'd0);
-  end
-  always_ff @(posedge clk_i) begin
-    nb19_q <= nb_w;
-    s19_q <= s18_q;
-    nonpos19_q <= s18_q[SW-1] || s18_q == '0;
-  end
-  logic signed [B-1:0] mr21;
-  logic unused_clip_mr;  // rounding up to 2 is held at the largest operand (hls::to_operand)
-  rheo_round_shift #(.InW(SW), .OutW(B), .ShiftW(7), .MaxLeft(B - 2)) u_mr (
-    .clk_i(clk_i), .v_i(s19_q), .sb_i(7'(nb19_q) - 7'd1), .out_o(mr21), .clip_o(unused_clip_mr));
-
-  // ---- stages 22-26: y = 1/m: seed, then y0 (2 - m y0) ----
-  logic signed [B-1:0] mr22_q, y0_22_q, y0_23_q, y0_24_q, e24_q, y26_q;
-  logic signed [PW-1:0] my23_q, yp25_q;
-  always_ff @(posedge clk_i) begin
-    mr22_q <= mr21;
-    y0_22_q <= B'(rheo_consts_pkg::recip_seed(mr21[B-3 -: RIdxB]));
-    my23_q <= mr22_q * y0_22_q;
-    y0_23_q <= y0_22_q;
-    e24_q <= B'(1 << (B - 1)) - B'((my23_q + PW'(1 << (B - 3))) >>> (B - 2));
-    y0_24_q <= y0_23_q;
-    yp25_q <= y0_24_q * e24_q;
-  end
-  logic nonpos25;
-  rheo_delay #(.W(1), .N(6)) u_np_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(nonpos19_q), .q_o(nonpos25));
-  logic signed [PW-1:0] yr_w;
-  always_comb yr_w = (yp25_q + PW'(1 << (B - 3))) >>> (B - 2);
-  always_ff @(posedge clk_i) begin
-    if (nonpos25 || yr_w > PW'(1 << (B - 2))) y26_q <= B'(1 << (B - 2));
-    else y26_q <= B'(yr_w);
-  end
-  // 1/s's exponent as a shift: nb - FracS - 1 (nb = FracS + 1 when s <= 0)
+  // ---- stages 19-26: 1/s = y 2^-(B-2) 2^(FracS + 1 - nb) (rheo_recip: bit length, m,
+  //      seed, y0 (2 - m y0)); s <= 0 gives y = 1 and nb = FracS + 1, flagged ----
+  logic signed [B-1:0] y26_q;
   logic [5:0] nb26;
   logic nonpos26;
-  rheo_delay #(.W(6), .N(7)) u_nb_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(nb19_q), .q_o(nb26));
-  rheo_delay #(.W(1), .N(1)) u_np26_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(nonpos25), .q_o(nonpos26));
+  rheo_recip #(.InW(SW), .NonPosNb(FracS + 1)) u_recip (
+    .clk_i(clk_i), .v_i(s18_q), .y_o(y26_q), .nb_o(nb26), .nonpos_o(nonpos26));
 
   // ---- stages 27-29: the four coefficients times y, their shifts, packed ----
   logic [CoefW-1:0] alpha26;
@@ -297,7 +252,7 @@ module rheo_damper #(
   always_ff @(posedge clk_i) begin
     for (int c = 0; c < 4; c++) begin
       yprod27_q[c] <= m26[c] * y26_q;
-      sh27_q[c] <= sh26[c] + (nonpos26 ? 9'sd0 : 9'(nb26) - 9'(FracS + 1));
+      sh27_q[c] <= sh26[c] + 9'(nb26) - 9'(FracS + 1);
       m28_q[c] <= MantW'((yprod27_q[c] + PW'(1 << (B - 3))) >>> (B - 2));
       st28_q[c] <= 6'(sh_lim[c] + 9'(Bias));
     end
@@ -313,10 +268,10 @@ module rheo_damper #(
     flag_at[11] = zsat11_q;
     flag_at[17] = clip_sq17;
     flag_at[18] = clip_s18_q;
-    flag_at[19] = nonpos19_q;
+    flag_at[26] = nonpos26;
     flag_at[27] = |shclip_w;
   end
   logic unused;
-  assign unused = ^{unused_clip_dlo, unused_clip_dspan, unused_clip_mr, clip28_q, coef_i[11*CoefW +: CoefW],
+  assign unused = ^{unused_clip_dlo, unused_clip_dspan, clip28_q, coef_i[11*CoefW +: CoefW],
                     coef_i[4*CoefW +: 2*CoefW]};
 endmodule
