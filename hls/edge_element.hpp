@@ -44,7 +44,9 @@ struct EdgeElement {
   // lead on ldot is then a coefficient of its own (ka) rather than part of ct.
   constexpr bool scales_coefficients() const { return series_damper || strain_hardening; }
   // Clocks from the last edge row until its force sums land (the cycle formula's TemDrain).
-  constexpr int tem_drain_cycles() const { return hls::tem_drain_cycles(strain_hardening); }
+  constexpr int tem_drain_cycles() const {
+    return hls::tem_drain_cycles(strain_hardening, series_damper);
+  }
   // Packed coefficients per material the TEM reads (region Material, the damper's, then
   // the arms').
   constexpr int material_coefficients() const {
@@ -97,13 +99,21 @@ inline constexpr EdgeElement kThreeElementWithHardening{
     "three-element+hardening",
     "the three-element edge with strain hardening (the Voigt spring stiffens with the strain)",
     0, false, true};
+// Every edge effect at once: the damper's state then follows the hardened spring's force
+// (rtl/rheo_harden.sv runs the damper after h). Hardening with arms needs this element:
+// the arms' lead on ldot (ka) is one of the damper's coefficients.
+inline constexpr EdgeElement kThreeElementEveryEffect{
+    "three-element+damper+hardening+8arms",
+    "the three-element edge with every effect: the force-dependent series damper, strain "
+    "hardening and eight parallel Maxwell arms",
+    8, true, true};
 
 // Every variant the bit-true model and the RTL implement, in the order edge_element_with
 // tries them (among variants with the same parts, fewer arms first).
-inline constexpr std::array<EdgeElement, 7> kEdgeElements{
+inline constexpr std::array<EdgeElement, 8> kEdgeElements{
     kThreeElement,           kThreeElementWithArm,    kThreeElementWith4Arms,
     kThreeElementWith8Arms,  kThreeElementWithDamper, kThreeElementWithDamper8Arms,
-    kThreeElementWithHardening};
+    kThreeElementWithHardening, kThreeElementEveryEffect};
 
 // The variant named `name`, or nullptr.
 constexpr const EdgeElement* find_edge_element(std::string_view name) {

@@ -183,10 +183,17 @@ inline constexpr int kMpmLatency = 8;
 inline constexpr int kTemDrainCycles = kTemLatency + 4;
 // A TEM with strain hardening computes its coefficients from l, which it has at stage 21
 // (rtl/rheo_harden.sv, 44 stages from stage 17): everything from the coefficient products
-// on runs this much later, in the TEM's latency and in the edge pass's drain.
+// on runs this much later, in the TEM's latency and in the edge pass's drain. With the
+// series damper as well, the damper's state follows the hardened spring's extension, which
+// needs h first (rheo_harden: 64 stages).
 inline constexpr int kHardTemExtra = 32;
-constexpr int tem_latency(bool hardening) { return kTemLatency + (hardening ? kHardTemExtra : 0); }
-constexpr int tem_drain_cycles(bool hardening) { return tem_latency(hardening) + 4; }
+inline constexpr int kHardDamperTemExtra = 52;
+constexpr int tem_latency(bool hardening, bool damper = false) {
+  return kTemLatency + (hardening ? (damper ? kHardDamperTemExtra : kHardTemExtra) : 0);
+}
+constexpr int tem_drain_cycles(bool hardening, bool damper = false) {
+  return tem_latency(hardening, damper) + 4;
+}
 static_assert(tem_drain_cycles(false) == kTemDrainCycles);
 inline constexpr int kMpmDrainCycles = kMpmLatency + 5;
 

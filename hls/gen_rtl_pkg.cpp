@@ -93,6 +93,8 @@ int main() {
   param("HardHBits", h::kHardHBits, "h: unsigned, clamped and flagged beyond");
   param("HardSBits", h::kHardSBits, "s with hardening: signed, saturated");
   param("HardTemExtra", h::kHardTemExtra, "rheo_tem with StrainHardening: extra latency");
+  param("HardDamperTemExtra", h::kHardDamperTemExtra,
+        "rheo_tem with StrainHardening and SeriesDamper: extra latency");
   param("RegionMaterialHardening", f::kRegionMaterialHardening, "region");
   param("HardeningCoefs", f::kHardeningCoefs, "hardening material entry: packed coefficients");
   param("NumRegions", f::kNumRegions, "regions");

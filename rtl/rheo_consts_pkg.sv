@@ -68,6 +68,7 @@ package rheo_consts_pkg;
   localparam int HardHBits = 40;  // h: unsigned, clamped and flagged beyond
   localparam int HardSBits = 48;  // s with hardening: signed, saturated
   localparam int HardTemExtra = 32;  // rheo_tem with StrainHardening: extra latency
+  localparam int HardDamperTemExtra = 52;  // rheo_tem with StrainHardening and SeriesDamper: extra latency
   localparam int RegionMaterialHardening = 23;  // region
   localparam int HardeningCoefs = 3;  // hardening material entry: packed coefficients
   localparam int NumRegions = 24;  // regions

@@ -55,8 +55,9 @@
 // per step; a core without it refuses the region.
 // StrainHardening = 1 builds the variant with strain hardening in every TEM (rheo_harden):
 // per material three more coefficients (region MaterialHardening). Its TEM runs
-// HardTemExtra clocks longer, and so does the edge pass's drain (TemDrain + HardTemExtra in
-// the cycle formula); a core without it refuses the region.
+// HardTemExtra clocks longer (HardDamperTemExtra with the damper too), and so does the edge
+// pass's drain (the TEM drain of the cycle formula); a core without it refuses the region.
+// With arms it needs the damper as well (the element with every effect).
 module rheo_core #(
   parameter int Lanes = 1,              // parallel TEM/MPM lanes and banks (1..4)
   parameter int MaxParticles = 4096,    // particle memory depth (all banks)

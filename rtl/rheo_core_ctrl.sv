@@ -71,7 +71,9 @@ module rheo_core_ctrl #(
 );
   localparam int WideW = rheo_consts_pkg::WideW;
   localparam int TemDrain = rheo_consts_pkg::TemDrain +
-                            ((StrainHardening != 0) ? rheo_consts_pkg::HardTemExtra : 0);
+                            ((StrainHardening == 0) ? 0 :
+                             ((SeriesDamper != 0) ? rheo_consts_pkg::HardDamperTemExtra
+                                                  : rheo_consts_pkg::HardTemExtra));
   localparam int MpmDrain = rheo_consts_pkg::MpmDrain;
   localparam int OpW = rheo_consts_pkg::HeaderOpcodeBits;
   localparam int CoreRegions = rheo_consts_pkg::NumBaseRegions + 2 * MaxwellArms;

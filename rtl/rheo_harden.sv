@@ -22,15 +22,20 @@
 module rheo_harden #(
   parameter int W = 32,
   parameter int CoefW = 24,
-  localparam int NumIn = 7,   // {ct_h, s_k, hk, ct, kt, beta, alpha}
-  localparam int NumOut = 5   // {cth, ct, kt, beta, alpha}
+  parameter int SeriesDamper = 0,  // with the force-dependent series damper (1) or not (0)
+  // {[s_c2, s_base, zk, d_span, d_lo,] ct_h, s_k, hk, ct, kt, beta, alpha}
+  localparam int NumIn = (SeriesDamper != 0) ? 12 : 7,
+  localparam int NumOut = 5,  // {cth, ct, kt, beta, alpha}
+  // index of the output stage (rheo_consts_pkg::HardLatency / HardDamperLatency)
+  localparam int Last = (SeriesDamper != 0) ? 64 : 44
 ) (
   input  logic                     clk_i,
   input  logic signed [W-1:0]      len_i,   // L (stage 0)
+  input  logic signed [W-1:0]      ds_i,    // d - L (stage 0; read with the damper only)
   input  logic [NumIn*CoefW-1:0]   coef_i,  // stage 0
   input  logic signed [W-1:0]      l_i,     // the edge's length (stage 4)
-  output logic [NumOut*CoefW-1:0]  coef_o,  // stage 44
-  output logic                     clip_o   // a value saturated or a shift was clamped (44)
+  output logic [NumOut*CoefW-1:0]  coef_o,  // stage Last
+  output logic                     clip_o   // a value saturated or a shift was clamped (Last)
 );
   localparam int B = rheo_consts_pkg::OperandBits;
   localparam int PW = 2 * B;
@@ -43,8 +48,20 @@ module rheo_harden #(
   localparam int SW = rheo_consts_pkg::HardSBits;
   localparam int EW = 6;
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CHk = 4, CSk = 5, CCth = 6;
+  localparam int CDamper = 7;  // the damper's five, in the order rheo_damper_q reads them
   localparam int OCth = 4;  // output index of cth (the others keep their input index)
-  localparam int Last = 44;
+  // With the damper, s waits for the damper's q (DX stages) and the factors take a second
+  // product (two stages): s at stage SS, 1/s at SY, the factors at SF.
+  localparam int DX = (SeriesDamper != 0) ? 18 : 0;
+  localparam int SS = 28 + DX, SY = SS + 9;
+  localparam int SF = SY + ((SeriesDamper != 0) ? 4 : 2);
+  if (Last != SF + 5) begin : g_last_check
+    $error("rheo_harden: Last must be the stage schedule's output stage");
+  end
+  if (rheo_consts_pkg::HardTemExtra != 44 - 12 ||
+      rheo_consts_pkg::HardDamperTemExtra != 64 - 12) begin : g_pkg_check
+    $error("rheo_harden: rheo_consts_pkg's TEM extras must follow this unit's latency");
+  end
 
   if (MantW != B) begin : g_width_check
     $error("rheo_harden: coefficient mantissas are 18-bit operands");
@@ -221,91 +238,212 @@ module rheo_harden #(
   logic clip_sterm27;
   rheo_round_shift #(.InW(PW), .OutW(SW), .ShiftW(7), .MaxLeft(SW)) u_sterm (
     .clk_i(clk_i), .v_i(skprod25_q), .sb_i(sksb25_q), .out_o(sterm27), .clip_o(clip_sterm27));
+
+  // ---- with the damper, stages 1-28: a = g |ds| = |ds| + h |ds| (h |ds| held quietly to
+  //      W + 2 bits, as hls::hardened_coefs), then stages 29-46: q (41) and s (45) of the
+  //      damper for a (rheo_damper_q); without it q = 1 and s = 1 ----
+  logic signed [SW-1:0] sdamp;  // s_base + s_c2 q at stage SS - 1
+  logic signed [B-1:0] qm_y;    // q = qm 2^-(B-2) 2^-n at stage SY
+  logic [5:0] n_y;
+  logic clip_damp;              // at stage SS - 1
+  if (SeriesDamper != 0) begin : g_damper
+    // stage 1: |ds|; 2-4: normalised; they wait for h's factor (stage 24)
+    logic signed [W:0] abs1_q;
+    always_ff @(posedge clk_i) abs1_q <= ds_i[W-1] ? -((W+1)'(ds_i)) : (W+1)'(ds_i);
+    logic signed [B-1:0] am4, am24;
+    logic [EW-1:0] as4, as24;
+    rheo_normalize #(.N(1), .InW(W+1), .B(B), .ShiftW(EW)) u_norm_abs (
+      .clk_i(clk_i), .v_i(abs1_q), .mant_o(am4), .shift_o(as4));
+    rheo_delay #(.W(B + EW), .N(20)) u_an_d (
+      .clk_i(clk_i), .rst_ni(1'b1), .d_i({am4, as4}), .q_o({am24, as24}));
+    // stage 25: h^ |ds|^ and its shift (B-2) - (nh - FracH) - e, biased by W + 2; 26: the
+    // shift clamped to [-(W+2), 2B]; 27-28: as a word
+    logic signed [PW-1:0] hd25_q, hd26_q;
+    logic signed [9:0] hdsh25_q;
+    logic [6:0] hdsb26_q;
+    always_ff @(posedge clk_i) begin
+      hd25_q <= hm24 * am24;
+      hdsh25_q <= 10'(B - 2 + FracH + W + 2) - 10'(nh24) - 10'(as24);
+      hd26_q <= hd25_q;
+      if (hdsh25_q > 10'(2 * B + W + 2)) hdsb26_q <= 7'(2 * B + W + 2);
+      else if (hdsh25_q < 0) hdsb26_q <= '0;
+      else hdsb26_q <= 7'(hdsh25_q);
+    end
+    logic signed [W+1:0] hds28;
+    logic unused_hdsclip;  // quiet: beyond W + 2 bits the damper's clamp gives the same q
+    rheo_round_shift #(.InW(PW), .OutW(W+2), .ShiftW(7), .MaxLeft(W+2)) u_hds (
+      .clk_i(clk_i), .v_i(hd26_q), .sb_i(hdsb26_q), .out_o(hds28), .clip_o(unused_hdsclip));
+    logic signed [W:0] abs28;
+    rheo_delay #(.W(W+1), .N(27)) u_abs_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(abs1_q), .q_o(abs28));
+    logic signed [W+2:0] a29_q;
+    always_ff @(posedge clk_i) a29_q <= (W+3)'(abs28) + (W+3)'(hds28);
+    // rheo_damper_q: coefficients at its stage 0 = 27, a at its stage 2 = 29
+    logic [5*CoefW-1:0] dc27;
+    rheo_delay #(.W(5*CoefW), .N(27)) u_dc_d (
+      .clk_i(clk_i), .rst_ni(1'b1), .d_i(coef_i[CDamper*CoefW +: 5*CoefW]), .q_o(dc27));
+    logic signed [B-1:0] qm41;
+    logic [5:0] n41;
+    rheo_damper_q #(.W(W), .CoefW(CoefW), .AW(W+3), .SW(SW)) u_q (
+      .clk_i(clk_i), .coef_i(dc27), .a_i(a29_q), .qm_o(qm41), .n_o(n41), .s_o(sdamp),
+      .clip_o(clip_damp));
+    rheo_delay #(.W(B + 6), .N(SY - 41)) u_q_d (
+      .clk_i(clk_i), .rst_ni(1'b1), .d_i({qm41, n41}), .q_o({qm_y, n_y}));
+    logic unused_damper;
+    assign unused_damper = unused_hdsclip;
+  end else begin : g_no_damper
+    logic unused_ds;
+    assign unused_ds = ^ds_i;
+    assign sdamp = SW'(64'd1 << FracS);  // s_base + s_c2 = 1
+    assign qm_y = B'(1 << (B - 2));
+    assign n_y = '0;
+    assign clip_damp = 1'b0;
+  end
+
+  // ---- stage SS: s = s_damper + s_k h (1 + s_k h without the damper) ----
+  logic signed [SW-1:0] sterm_s;
+  rheo_delay #(.W(SW), .N(SS - 1 - 27)) u_sterm_d (
+    .clk_i(clk_i), .rst_ni(1'b1), .d_i(sterm27), .q_o(sterm_s));
   logic signed [SW:0] s_w;
-  logic signed [SW-1:0] s28_q;
-  logic clip_s28_q;
-  always_comb s_w = (SW+1)'(sterm27) + (SW+1)'(64'd1 << FracS);
+  logic signed [SW-1:0] s_q;
+  logic clip_s_q;
+  always_comb s_w = (SW+1)'(sterm_s) + (SW+1)'(sdamp);
   always_ff @(posedge clk_i) begin
-    clip_s28_q <= s_w[SW] ^ s_w[SW-1];
-    if (s_w[SW] ^ s_w[SW-1]) s28_q <= {s_w[SW], {(SW-1){~s_w[SW]}}};
-    else s28_q <= s_w[SW-1:0];
+    clip_s_q <= s_w[SW] ^ s_w[SW-1];
+    if (s_w[SW] ^ s_w[SW-1]) s_q <= {s_w[SW], {(SW-1){~s_w[SW]}}};
+    else s_q <= s_w[SW-1:0];
   end
 
-  // ---- stages 29-37: 1/s = y 2^-(B-2) 2^(FracS + 1 - nb) ----
-  logic signed [B-1:0] y37;
-  logic [5:0] nb37;
-  logic snp37;  // s <= 0 (never with the host's tables): flagged
+  // ---- stages SS+1 .. SY: 1/s = y 2^-(B-2) 2^(FracS + 1 - nb) ----
+  logic signed [B-1:0] y_y;
+  logic [5:0] nb_y;
+  logic snp_y;  // s <= 0 (never with the host's tables): flagged
   rheo_recip #(.InW(SW), .NonPosNb(FracS + 1), .LenStages(2)) u_recip_s (
-    .clk_i(clk_i), .v_i(s28_q), .y_o(y37), .nb_o(nb37), .nonpos_o(snp37));
+    .clk_i(clk_i), .v_i(s_q), .y_o(y_y), .nb_o(nb_y), .nonpos_o(snp_y));
 
-  // ---- stage 38: g/s, h/s; 39: renormalised (hls::factor_mul) ----
-  logic signed [B-1:0] gm37, hm37;
-  logic [5:0] ng37, nh37;
-  rheo_delay #(.W(B), .N(12)) u_gm_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(gm25), .q_o(gm37));
-  rheo_delay #(.W(B), .N(13)) u_hm_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(hm24), .q_o(hm37));
-  rheo_delay #(.W(6), .N(14)) u_ng_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(ng23), .q_o(ng37));
-  rheo_delay #(.W(6), .N(13)) u_nh_d2 (.clk_i(clk_i), .rst_ni(1'b1), .d_i(nh24), .q_o(nh37));
-  logic signed [PW-1:0] pg38_q, ph38_q;
-  logic signed [9:0] ey38_q, eg38_q, eh38_q;  // exponents of 1/s, g/s, h/s
-  logic hz38_q;
-  logic signed [B-1:0] y38_q;
-  always_ff @(posedge clk_i) begin
-    pg38_q <= gm37 * y37;
-    ph38_q <= hm37 * y37;
-    ey38_q <= 10'(FracS + 1) - 10'(nb37);
-    eg38_q <= 10'(ng37) - 10'(FracH) + 10'(FracS + 1) - 10'(nb37);
-    eh38_q <= 10'(nh37) - 10'(FracH) + 10'(FracS + 1) - 10'(nb37);
-    hz38_q <= hm37 == '0;
-    y38_q <= y37;
-  end
+  // ---- stages SY+1 .. SF: the factors (hls::factor_mul), each a product and a
+  //      renormalisation: alpha g/s, beta and ct q/s, kt g q/s, cth h q/s ----
+  logic signed [B-1:0] gm_y, hm_y;
+  logic [5:0] ng_y, nh_y;
+  rheo_delay #(.W(B), .N(SY - 25)) u_gm_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(gm25), .q_o(gm_y));
+  rheo_delay #(.W(B), .N(SY - 24)) u_hm_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(hm24), .q_o(hm_y));
+  rheo_delay #(.W(6), .N(SY - 23)) u_ng_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(ng23), .q_o(ng_y));
+  rheo_delay #(.W(6), .N(SY - 24)) u_nh_d2 (.clk_i(clk_i), .rst_ni(1'b1), .d_i(nh24), .q_o(nh_y));
   // f = p 2^-(B-3) (exponent - 1) when p < 2^(2B-5), else p 2^-(B-2); rounded to nearest
   function automatic logic signed [B-1:0] renorm_mant(input logic signed [PW-1:0] p);
     if (p < PW'(64'd1 << (2 * B - 5))) renorm_mant = B'((p + PW'(1 << (B - 4))) >>> (B - 3));
     else renorm_mant = B'((p + PW'(1 << (B - 3))) >>> (B - 2));
   endfunction
-  logic signed [B-1:0] fm39_q [3];  // factors of {h/s, g/s, 1/s}
-  logic signed [9:0] fe39_q [3];
-  localparam int FY = 0, FG = 1, FH = 2;
-  always_ff @(posedge clk_i) begin
-    fm39_q[FY] <= y38_q;
-    fe39_q[FY] <= ey38_q;
-    fm39_q[FG] <= renorm_mant(pg38_q);
-    fe39_q[FG] <= eg38_q - ((pg38_q < PW'(64'd1 << (2 * B - 5))) ? 10'd1 : 10'd0);
-    fm39_q[FH] <= hz38_q ? '0 : renorm_mant(ph38_q);
-    fe39_q[FH] <= eh38_q - ((ph38_q < PW'(64'd1 << (2 * B - 5))) ? 10'd1 : 10'd0);
+  function automatic logic signed [9:0] renorm_exp(input logic signed [PW-1:0] p,
+                                                   input logic signed [9:0] e);
+    renorm_exp = e - ((p < PW'(64'd1 << (2 * B - 5))) ? 10'd1 : 10'd0);
+  endfunction
+  localparam int FA = 0, FB = 1, FK = 2, FC = 3;  // the factors of alpha, beta/ct, kt, cth
+  logic signed [B-1:0] fm_q [4];
+  logic signed [9:0] fe_q [4];
+  // exponents of 1/s, g and h (factor = m 2^-(B-2) 2^e)
+  logic signed [9:0] ey_w, eg_w, eh_w;
+  always_comb begin
+    ey_w = 10'(FracS + 1) - 10'(nb_y);
+    eg_w = 10'(ng_y) - 10'(FracH);
+    eh_w = 10'(nh_y) - 10'(FracH);
+  end
+  if (SeriesDamper != 0) begin : g_qfactors
+    // SY+1: q/s, g/s; SY+2: renormalised; SY+3: g q/s, h q/s; SY+4: renormalised
+    logic signed [PW-1:0] pqy1_q, pgy1_q, pgqy3_q, phqy3_q;
+    logic signed [9:0] eqy1_q, egy1_q, eg1_q, eh1_q, eg2_q, eh2_q, egqy3_q, ehqy3_q;
+    logic signed [B-1:0] gm1_q, hm1_q, gm2_q, hm2_q, fqy2_q, fgy2_q, fgy3_q, fqy3_q;
+    logic signed [9:0] eqy2_q, egy2_q, egy3_q, eqy3_q;
+    always_ff @(posedge clk_i) begin
+      pqy1_q <= qm_y * y_y;
+      pgy1_q <= gm_y * y_y;
+      eqy1_q <= ey_w - 10'(n_y);
+      egy1_q <= ey_w + eg_w;
+      gm1_q <= gm_y;
+      hm1_q <= hm_y;
+      eg1_q <= eg_w;
+      eh1_q <= eh_w;
+      fqy2_q <= renorm_mant(pqy1_q);
+      eqy2_q <= renorm_exp(pqy1_q, eqy1_q);
+      fgy2_q <= renorm_mant(pgy1_q);
+      egy2_q <= renorm_exp(pgy1_q, egy1_q);
+      gm2_q <= gm1_q;
+      hm2_q <= hm1_q;
+      eg2_q <= eg1_q;
+      eh2_q <= eh1_q;
+      pgqy3_q <= gm2_q * fqy2_q;
+      phqy3_q <= hm2_q * fqy2_q;
+      egqy3_q <= eg2_q + eqy2_q;
+      ehqy3_q <= eh2_q + eqy2_q;
+      fgy3_q <= fgy2_q;
+      egy3_q <= egy2_q;
+      fqy3_q <= fqy2_q;
+      eqy3_q <= eqy2_q;
+      fm_q[FA] <= fgy3_q;
+      fe_q[FA] <= egy3_q;
+      fm_q[FB] <= fqy3_q;
+      fe_q[FB] <= eqy3_q;
+      fm_q[FK] <= renorm_mant(pgqy3_q);
+      fe_q[FK] <= renorm_exp(pgqy3_q, egqy3_q);
+      fm_q[FC] <= renorm_mant(phqy3_q);  // 0 with h = 0
+      fe_q[FC] <= renorm_exp(phqy3_q, ehqy3_q);
+    end
+  end else begin : g_factors
+    // SY+1: g/s, h/s; SY+2: renormalised (1/s is beta's and ct's factor as it is)
+    logic signed [PW-1:0] pg1_q, ph1_q;
+    logic signed [9:0] ey1_q, eg1_q, eh1_q;
+    logic signed [B-1:0] y1_q;
+    logic unused_q;
+    assign unused_q = ^{qm_y, n_y};
+    always_ff @(posedge clk_i) begin
+      pg1_q <= gm_y * y_y;
+      ph1_q <= hm_y * y_y;
+      ey1_q <= ey_w;
+      eg1_q <= ey_w + eg_w;
+      eh1_q <= ey_w + eh_w;
+      y1_q <= y_y;
+      fm_q[FB] <= y1_q;
+      fe_q[FB] <= ey1_q;
+      fm_q[FA] <= renorm_mant(pg1_q);
+      fe_q[FA] <= renorm_exp(pg1_q, eg1_q);
+      fm_q[FK] <= renorm_mant(pg1_q);
+      fe_q[FK] <= renorm_exp(pg1_q, eg1_q);
+      fm_q[FC] <= renorm_mant(ph1_q);  // 0 with h = 0
+      fe_q[FC] <= renorm_exp(ph1_q, eh1_q);
+    end
   end
 
-  // ---- stage 40: the coefficients times their factor; 41: shifts; 42-43: rounded ----
-  // alpha: g/s, beta: 1/s, kt: g/s, ct: 1/s, cth (from ct_h): h/s
+  // ---- stage SF+1 (c1 below): the coefficients times their factor; c2: shifts; c3-c4:
+  //      rounded; c5 = Last: packed ----
   function automatic int factor_of_out(input int o);
     case (o)
-      CAlpha, CKt: factor_of_out = FG;
-      CBeta, CCt: factor_of_out = FY;
-      default: factor_of_out = FH;  // cth
+      CAlpha: factor_of_out = FA;
+      CKt: factor_of_out = FK;
+      CBeta, CCt: factor_of_out = FB;
+      default: factor_of_out = FC;  // cth
     endcase
   endfunction
   function automatic int input_of_out(input int o);
     input_of_out = (o == OCth) ? CCth : o;
   endfunction
-  logic [CoefW-1:0] c39 [NumOut];
-  logic signed [PW-1:0] cp40_q [NumOut], cp41_q [NumOut];
-  logic signed [9:0] sh40_q [NumOut];
-  logic zero40_q [NumOut], zero41_q [NumOut], zero43 [NumOut];
-  logic [6:0] rsb41_q [NumOut];
-  logic signed [9:0] osh41_q [NumOut];
-  logic [5:0] ost43 [NumOut];
-  logic signed [MantW-1:0] m43 [NumOut];
+  logic [CoefW-1:0] c0f [NumOut];
+  logic signed [PW-1:0] cp1_q [NumOut], cp2_q [NumOut];
+  logic signed [9:0] sh1_q [NumOut];
+  logic zero1_q [NumOut], zero2_q [NumOut], zero4 [NumOut];
+  logic [6:0] rsb2_q [NumOut];
+  logic signed [9:0] osh2_q [NumOut];
+  logic [5:0] ost4 [NumOut];
+  logic signed [MantW-1:0] m4 [NumOut];
   logic [NumOut-1:0] shclip_w;
   logic signed [9:0] osh_w [NumOut];
   logic [6:0] rsb_w [NumOut];
   for (genvar o = 0; o < NumOut; o++) begin : g_out
     localparam int F = factor_of_out(o);
-    // the coefficient waits 39 clocks
-    rheo_delay #(.W(CoefW), .N(39)) u_c_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[input_of_out(o)]), .q_o(c39[o]));
+    // the coefficient waits for its factor
+    rheo_delay #(.W(CoefW), .N(SF)) u_c_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(c0[input_of_out(o)]), .q_o(c0f[o]));
     always_ff @(posedge clk_i) begin
-      cp40_q[o] <= $signed(c39[o][MantW-1:0]) * fm39_q[F];
-      sh40_q[o] <= shift_of(c39[o][CoefW-1:MantW]) - fe39_q[F];
-      zero40_q[o] <= fm39_q[F] == '0 || c39[o][MantW-1:0] == '0;
+      cp1_q[o] <= $signed(c0f[o][MantW-1:0]) * fm_q[F];
+      sh1_q[o] <= shift_of(c0f[o][CoefW-1:MantW]) - fe_q[F];
+      zero1_q[o] <= fm_q[F] == '0 || c0f[o][MantW-1:0] == '0;
     end
     // Below the format the shift is clamped (and flagged); above it the product drops
     // drop = min(sh - hi, 2B) mantissa bits. The three comparisons with constants and the
@@ -317,42 +455,42 @@ module rheo_harden #(
     localparam logic signed [9:0] Hi = 10'(ShiftHi);
     localparam logic signed [9:0] Hi2B = 10'(ShiftHi + 2 * B);
     always_comb begin
-      shclip_w[o] = !zero40_q[o] && sh40_q[o] < Lo;
-      if (sh40_q[o] < Lo) begin
+      shclip_w[o] = !zero1_q[o] && sh1_q[o] < Lo;
+      if (sh1_q[o] < Lo) begin
         osh_w[o] = Lo;
         rsb_w[o] = 7'(B - 2);
-      end else if (sh40_q[o] <= Hi) begin
-        osh_w[o] = sh40_q[o];
+      end else if (sh1_q[o] <= Hi) begin
+        osh_w[o] = sh1_q[o];
         rsb_w[o] = 7'(B - 2);
-      end else if (sh40_q[o] <= Hi2B) begin
+      end else if (sh1_q[o] <= Hi2B) begin
         osh_w[o] = Hi;
-        rsb_w[o] = 7'(sh40_q[o] - 10'(ShiftHi - (B - 2)));
+        rsb_w[o] = 7'(sh1_q[o] - 10'(ShiftHi - (B - 2)));
       end else begin
-        osh_w[o] = sh40_q[o] - 10'(2 * B);
+        osh_w[o] = sh1_q[o] - 10'(2 * B);
         rsb_w[o] = 7'(3 * B - 2);
       end
     end
     always_ff @(posedge clk_i) begin
-      cp41_q[o] <= cp40_q[o];
-      rsb41_q[o] <= rsb_w[o];
-      osh41_q[o] <= osh_w[o];
-      zero41_q[o] <= zero40_q[o];
+      cp2_q[o] <= cp1_q[o];
+      rsb2_q[o] <= rsb_w[o];
+      osh2_q[o] <= osh_w[o];
+      zero2_q[o] <= zero1_q[o];
     end
     logic unused_mclip;  // |mant| <= |c.mant|: never clips
     logic unused_out;
     assign unused_out = unused_mclip;
     rheo_round_shift #(.InW(PW), .OutW(MantW), .ShiftW(7), .MaxLeft(0)) u_mant (
-      .clk_i(clk_i), .v_i(cp41_q[o]), .sb_i(rsb41_q[o]), .out_o(m43[o]), .clip_o(unused_mclip));
-    logic [6:0] st_pack41;
-    assign st_pack41 = {zero41_q[o], 6'(osh41_q[o] + 10'(Bias))};
-    logic [6:0] st43;
-    rheo_delay #(.W(7), .N(2)) u_st_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(st_pack41), .q_o(st43));
-    assign zero43[o] = st43[6];
-    assign ost43[o] = st43[5:0];
-    // stage 44: packed; a zero factor or mantissa gives {ShiftHi, 0} (hls::scaled_coef)
+      .clk_i(clk_i), .v_i(cp2_q[o]), .sb_i(rsb2_q[o]), .out_o(m4[o]), .clip_o(unused_mclip));
+    logic [6:0] st_pack2;
+    assign st_pack2 = {zero2_q[o], 6'(osh2_q[o] + 10'(Bias))};
+    logic [6:0] st4;
+    rheo_delay #(.W(7), .N(2)) u_st_d (.clk_i(clk_i), .rst_ni(1'b1), .d_i(st_pack2), .q_o(st4));
+    assign zero4[o] = st4[6];
+    assign ost4[o] = st4[5:0];
+    // stage Last: packed; a zero factor or mantissa gives {ShiftHi, 0} (hls::scaled_coef)
     always_ff @(posedge clk_i) begin
-      if (zero43[o]) coef_o[o*CoefW +: CoefW] <= {6'(ShiftHi + Bias), MantW'(0)};
-      else coef_o[o*CoefW +: CoefW] <= {ost43[o], m43[o]};
+      if (zero4[o]) coef_o[o*CoefW +: CoefW] <= {6'(ShiftHi + Bias), MantW'(0)};
+      else coef_o[o*CoefW +: CoefW] <= {ost4[o], m4[o]};
     end
   end
 
@@ -360,9 +498,10 @@ module rheo_harden #(
     for (int s = 0; s <= Last; s++) flag_at[s] = 1'b0;
     flag_at[21] = hflag21_q;
     flag_at[27] = clip_sterm27;
-    flag_at[28] = clip_s28_q;
-    flag_at[37] = snp37;
-    flag_at[40] = |shclip_w;
+    flag_at[SS - 1] = flag_at[SS - 1] | clip_damp;
+    flag_at[SS] = clip_s_q;
+    flag_at[SY] = snp_y;
+    flag_at[SF + 1] = |shclip_w;
   end
   logic unused;
   assign unused = ^{unused_hclip, unused_gclip, unused_hmclip};

@@ -45,7 +45,12 @@
 // rheo_harden turns l and L into this edge's alpha, beta, kt, ct and cth. It needs l (stage
 // 21), so everything from the coefficient products on runs HardTemExtra stages later:
 // stage t >= 30 below is t + HardTemExtra (latency 40 + HardTemExtra). cth ldot is a
-// seventh product and a fourth term of T. +16 multipliers. (Not yet with the damper or arms.)
+// seventh product and a fourth term of T. +16 multipliers. With the damper as well, the
+// damper's state follows the hardened spring's extension g |d - L|, so rheo_harden runs the
+// damper's q and s after h (HardDamperTemExtra instead of HardTemExtra) and no rheo_damper
+// is built; ka ldot and cth ldot are both terms of T. Hardening with arms needs the damper
+// (ka, the arms' lead, is one of the damper's coefficients): that is the element with every
+// effect.
 // Mirrors rheo::hls::tem_edge.
 module rheo_tem #(
   parameter int W = 32,      // state word width (rheo_consts_pkg::Width)
@@ -92,7 +97,9 @@ module rheo_tem #(
   localparam int CoefMantBits = rheo_consts_pkg::CoefMantBits;
   localparam int CoefShiftBias = rheo_consts_pkg::CoefShiftBias;
   // Stages from the coefficient products on are HD later with hardening.
-  localparam int HD = (StrainHardening != 0) ? rheo_consts_pkg::HardTemExtra : 0;
+  localparam int HD = (StrainHardening == 0) ? 0 :
+                     ((SeriesDamper != 0) ? rheo_consts_pkg::HardDamperTemExtra
+                                          : rheo_consts_pkg::HardTemExtra);
   localparam int Last = rheo_consts_pkg::TemLatency - 1 + HD;  // index of the output stage
   localparam int EW = 6;  // normalisation exponents (< W - B + 2)
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
@@ -116,8 +123,8 @@ module rheo_tem #(
   if (rheo_consts_pkg::TemLatency != 40) begin : g_latency_check
     $error("rheo_tem: the stage schedule below is for TemLatency = 40");
   end
-  if (StrainHardening != 0 && (SeriesDamper != 0 || MaxwellArms != 0)) begin : g_hard_check
-    $error("rheo_tem: strain hardening is built without the damper and the arms so far");
+  if (StrainHardening != 0 && SeriesDamper == 0 && MaxwellArms != 0) begin : g_hard_check
+    $error("rheo_tem: strain hardening with arms needs the damper (its ka is the arms' lead)");
   end
   if (MaxwellArms < 0 || MaxwellArms > rheo_consts_pkg::MaxArms) begin : g_arms_check
     $error("rheo_tem: MaxwellArms must be 0..rheo_consts_pkg::MaxArms");
@@ -315,23 +322,28 @@ module rheo_tem #(
   logic [CoefW-1:0] coef29 [NumProd];
   logic clip_damper29, clip_hard29;  // (clip_hard29 is at stage 29 + HD)
   if (StrainHardening != 0) begin : g_hard
-    // rheo_harden takes L and the coefficients at its stage 0 = stage 17 and l at stage 21
-    // (its stage 4); its coefficients are ready at stage 17 + 44 = 29 + HD
+    // rheo_harden takes L, ds and the coefficients at its stage 0 = stage 17 and l at stage
+    // 21 (its stage 4); its coefficients are ready at stage 17 + its latency = 29 + HD
     localparam int HardIn = 17;
-    if (HardIn + 44 != 29 + HD) begin : g_hard_latency_check
+    localparam int HardLast = (SeriesDamper != 0) ? 64 : 44;
+    localparam int HardNumIn = (SeriesDamper != 0) ? 12 : 7;
+    if (HardIn + HardLast != 29 + HD) begin : g_hard_latency_check
       $error("rheo_tem: HardTemExtra must be rheo_harden's latency less 12");
     end
-    logic signed [W-1:0] len17;
-    logic [7*CoefW-1:0] hcoef0, hcoef17;
+    logic signed [W-1:0] len17, ds17;
+    logic [HardNumIn*CoefW-1:0] hcoef0, hcoef17;
     logic [5*CoefW-1:0] hard29;
     always_comb begin
       for (int c = 0; c < 4; c++) hcoef0[c*CoefW +: CoefW] = coef0_q[c];
       for (int c = 0; c < 3; c++) hcoef0[(4+c)*CoefW +: CoefW] = coef0_q[CHk + c];
+      // the damper's d_lo, d_span, zk, s_base, s_c2
+      for (int c = 7; c < HardNumIn; c++) hcoef0[c*CoefW +: CoefW] = coef0_q[NumBaseCoef + c - 7];
     end
     rheo_delay #(.W(W), .N(HardIn)) u_len_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(len_q), .q_o(len17));
-    rheo_delay #(.W(7*CoefW), .N(HardIn)) u_hcoef_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(hcoef0), .q_o(hcoef17));
-    rheo_harden #(.W(W), .CoefW(CoefW)) u_harden (
-      .clk_i(clk_i), .len_i(len17), .coef_i(hcoef17), .l_i(l21), .coef_o(hard29),
+    rheo_delay #(.W(W), .N(HardIn - 1)) u_ds_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(ds1_q), .q_o(ds17));
+    rheo_delay #(.W(HardNumIn*CoefW), .N(HardIn)) u_hcoef_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(hcoef0), .q_o(hcoef17));
+    rheo_harden #(.W(W), .CoefW(CoefW), .SeriesDamper(SeriesDamper)) u_harden (
+      .clk_i(clk_i), .len_i(len17), .ds_i(ds17), .coef_i(hcoef17), .l_i(l21), .coef_o(hard29),
       .clip_o(clip_hard29));
     for (genvar c = 0; c < 4; c++) begin : g_hard_coef
       assign coef29[c] = hard29[c*CoefW +: CoefW];
@@ -339,6 +351,9 @@ module rheo_tem #(
     assign coef29[PCth] = hard29[4*CoefW +: CoefW];
     for (genvar c = 4; c < NumBaseCoef; c++) begin : g_coef_d
       rheo_delay #(.W(CoefW), .N(29 + HD)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
+    end
+    if (SeriesDamper != 0) begin : g_ka
+      rheo_delay #(.W(CoefW), .N(29 + HD)) u_ka_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[CKa]), .q_o(coef29[PKa]));
     end
     assign clip_damper29 = 1'b0;
   end else if (SeriesDamper != 0) begin : g_damper
@@ -411,12 +426,22 @@ module rheo_tem #(
   logic signed [W:0] dd_w;
   logic [W+3:0] csa_a, csa_b, csa_c;
   logic signed [W+3:0] tarm_lead32;  // the arms' force, and ka ldot with the damper
-  if (SeriesDamper != 0) begin : g_lead
+  if (SeriesDamper != 0 && StrainHardening != 0) begin : g_lead_both
+    // the arms' words, ka ldot and cth ldot: |sum| < 2^(W+2) + 2^W, and with kt ds and
+    // ct ldot T stays below 2^(W+3); the three terms meet in one carry-save step first
+    logic [W+3:0] la, lb, lc;
+    assign la = (W+4)'(tarm32);
+    assign lb = (W+4)'(cres32[PKa]);
+    assign lc = (W+4)'(cres32[PCth]);
+    assign tarm_lead32 = $signed(la ^ lb ^ lc) +
+                         $signed({(la[W+2:0] & lb[W+2:0]) | (la[W+2:0] & lc[W+2:0]) |
+                                  (lb[W+2:0] & lc[W+2:0]), 1'b0});
+  end else if (SeriesDamper != 0) begin : g_lead
     // at most eight arms' words and ka ldot: |sum| < 2^(W+2) + 2^(W-1), so with kt ds and
     // ct ldot T stays below 2^(W+3) and the sum below is exact in W + 4 bits
     assign tarm_lead32 = (W+4)'(tarm32) + (W+4)'(cres32[PKa]);
   end else if (StrainHardening != 0) begin : g_hard_lead
-    // cth ldot (no arms so far): T = kt ds + ct ldot + cth ldot, below 2^(W+1)
+    // cth ldot (arms need the damper): T = kt ds + ct ldot + cth ldot, below 2^(W+1)
     assign tarm_lead32 = (W+4)'(tarm32) + (W+4)'(cres32[PCth]);
   end else begin : g_no_lead
     assign tarm_lead32 = (W+4)'(tarm32);

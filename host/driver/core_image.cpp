@@ -298,10 +298,11 @@ const hls::EdgeElement& edge_element_for(const Model& model) {
     hardening = hardening || m.hardening != 0.0;
   }
   if (const hls::EdgeElement* e = hls::edge_element_with(arms, damper, hardening)) return *e;
-  // No core has all of it (more arms than any core carries, or hardening with the damper
-  // or arms): the core with the damper and the most arms, and hardware_model drops the rest.
-  const hls::EdgeElement* e = hls::edge_element_with(std::min(arms, hls::kMaxArms), damper);
-  return e ? *e : hls::kThreeElementWithDamper8Arms;
+  // More arms than any core carries: the core with the most arms (and the damper and
+  // hardening when the model has them); hardware_model drops the arms beyond it.
+  const hls::EdgeElement* e =
+      hls::edge_element_with(std::min(arms, hls::kMaxArms), damper, hardening);
+  return e ? *e : hls::kThreeElementEveryEffect;
 }
 
 Model hardware_model(const Model& model, std::vector<std::string>* dropped,

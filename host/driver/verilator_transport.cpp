@@ -12,6 +12,7 @@
 #include "Vrheo_core_damper_arms8_l1.h"
 #include "Vrheo_core_damper_l1.h"
 #include "Vrheo_core_hardening_l1.h"
+#include "Vrheo_core_every_l1.h"
 #include "Vrheo_core_l1.h"
 #include "Vrheo_core_l2.h"
 #include "Vrheo_core_l4.h"
@@ -210,6 +211,8 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
       impl_ = std::make_unique<Harness<Vrheo_core_damper_arms8_l1>>(o);
     else if (o.element == hls::kThreeElementWithHardening)
       impl_ = std::make_unique<Harness<Vrheo_core_hardening_l1>>(o);
+    else if (o.element == hls::kThreeElementEveryEffect)
+      impl_ = std::make_unique<Harness<Vrheo_core_every_l1>>(o);
     else
       throw Error("RTL core with edge element " + std::string(o.element.name) + ": not built");
   } else if (o.lanes == 1)

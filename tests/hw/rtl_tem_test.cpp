@@ -7,7 +7,9 @@
 // arms Vrheo_tem_damper_arms8), whose six coefficients per material drive the edge's
 // alpha, beta, kt, ct through the 2^-f table and the reciprocal, and the one with strain
 // hardening (StrainHardening = 1: Vrheo_tem_hardening, HardTemExtra clocks longer), whose three
-// coefficients and the edge's length and L drive alpha, beta, kt, ct and cth.
+// coefficients and the edge's length and L drive alpha, beta, kt, ct and cth, and the one
+// with every effect (eight arms, the damper and hardening: Vrheo_tem_every, whose damper
+// follows the hardened spring's extension).
 #include <gtest/gtest.h>
 
 #pragma GCC diagnostic push
@@ -21,6 +23,7 @@
 #include "Vrheo_tem_damper.h"
 #include "Vrheo_tem_damper_arms8.h"
 #include "Vrheo_tem_hardening.h"
+#include "Vrheo_tem_every.h"
 #pragma GCC diagnostic pop
 
 #include <deque>
@@ -65,7 +68,7 @@ void expect_rtl_tem_matches_bit_true() {
   rtl_test::reset(*tem);
   std::deque<Expected> pending;
   int checked = 0, saturated = 0;
-  for (int cycle = 0; cycle < kEdges + tem_latency(kHardening); ++cycle) {
+  for (int cycle = 0; cycle < kEdges + tem_latency(kHardening, kDamper); ++cycle) {
     tem->clk_i = 0;
     const bool issue = cycle < kEdges && unit(rng) < 0.9;  // some bubbles
     tem->valid_i = issue;
@@ -214,6 +217,10 @@ TEST(RtlTemDamperArms8, MatchesTheBitTrueDamperAndEightArmTemWordForWordAtOneEdg
 
 TEST(RtlTemHardening, MatchesTheBitTrueHardeningTemWordForWordOnRandomInputsAtOneEdgePerClock) {
   expect_rtl_tem_matches_bit_true<Vrheo_tem_hardening, 0, false, true>();
+}
+
+TEST(RtlTemEvery, MatchesTheBitTrueTemWithEveryEffectWordForWordAtOneEdgePerClock) {
+  expect_rtl_tem_matches_bit_true<Vrheo_tem_every, 8, true, true>();
 }
 
 }  // namespace
