@@ -1,24 +1,35 @@
-// Strain hardening of the TEM (rheo::hls::hardened_coefs<Fmt, false>): this edge's
+// Strain hardening of the TEM (rheo::hls::hardened_coefs<Fmt, Damper>): this edge's
 // coefficients from the material's (those of the unhardened spring) and its length l:
 //   e = (l - L) / L                   (1/L: rheo_recip; l - L, e, e^2 as 18-bit operands)
 //   h = hk e^2                        (an unsigned HardHBits word, HardFracH fraction bits;
 //                                      beyond it clamped and flagged)
 //   g = 1 + h, s = 1 + s_k h          (s: DamperFracS fraction bits, HardSBits wide)
 //   alpha g / s, beta / s, kt g / s, ct / s, cth = ct_h h / s
-// Each factor (g, h, 1/s and their products) is an 18-bit mantissa in [1/2, 1] and an
+// With SeriesDamper = 1 the force-dependent series damper acts on the hardened spring: its
+// state follows the extension a = g |d - L| (rheo_damper_q, after h), q = 2^-z and
+//   s = s_base + s_c2 q + s_k h;  alpha g / s, beta q / s, kt g q / s, ct q / s, cth h q / s.
+// Each factor (g, h, q, 1/s and their products) is an 18-bit mantissa in [1/2, 1] and an
 // exponent; a scaled coefficient keeps its 18-bit mantissa, a shift below the packed format
 // is clamped and flagged, one above it gives up mantissa bits (cth falls to 0 with h).
 // l is known late in the TEM (its stage 21), so this unit takes L and the coefficients four
 // clocks before l: L's reciprocal is ready when l - L is normalised.
-// Register index t of each value (len_i and coef_i are stage 0, l_i stage 4):
+// Register index t of each value (len_i, ds_i and coef_i are stage 0, l_i stage 4):
 //    8 1/L (rheo_recip)    5 l - L     8 (l - L)^    9 (l - L)^ / L   12 e^
 //   13 e^2                16 e^2^      17 h's shift  18 hk e^2^       20 h as a word
 //   21 h clamped, g = 1 + h    22 / 23 bit lengths of h / g    24 / 25 h / g as factors
-//   23 s_k h's shift      24 clamped   25 s_k h      27 as a word     28 s
-//   37 1/s (rheo_recip, two stages for s's bit length)  38 g/s, h/s      39 renormalised
-//   40 coefficient products, shifts    41 shifts clamped    43 rounded   44 outputs
+//   23 s_k h's shift      24 clamped   25 s_k h      27 as a word
+// Without the damper:
+//   28 s     37 1/s (rheo_recip, two stages for s's bit length)  38 g/s, h/s
+//   39 renormalised       40 coefficient products, shifts        41 shifts clamped
+//   43 rounded            44 outputs
+// With the damper (|d - L|^ at 4, waiting for h):
+//   25 h^ |d - L|^         26 its shift clamped     28 h |d - L| as a word   29 a
+//   41 q, 45 s_base + s_c2 q (rheo_damper_q)         46 s     55 1/s
+//   56 q/s, g/s           57 renormalised          58 g q/s, h q/s           59 renormalised
+//   60 coefficient products ... 64 outputs
 // Multipliers: 2 (1/L) + 1 (e) + 1 (e^2) + 1 (hk) + 1 (s_k) + 2 (1/s) + 2 (g/s, h/s)
-// + 5 (coefficients) = 15.
+// + 5 (coefficients) = 15; with the damper 1 (h |d - L|) + 3 (rheo_damper_q) + 2 (q/s, g/s)
+// + 2 (g q/s, h q/s) + 5 + the rest = 21.
 module rheo_harden #(
   parameter int W = 32,
   parameter int CoefW = 24,

@@ -327,6 +327,63 @@ TEST(HardeningLimit, SBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
 }
 
+// One edge with every edge effect: the damper (its spring force, hardened, between f1 and
+// f2), strain hardening (strain 0.3) and a Maxwell arm, stretched like the images above. The
+// every-effect core (MaxwellArms = 8, SeriesDamper = 1, StrainHardening = 1).
+CoreImage stretched_every_effect_image() {
+  Model m = star(1, true);
+  m.mass.assign(m.mass.size(), 100.0);
+  EdgeMaterial& mat = m.materials[0];
+  mat.nonlinear = true;
+  mat.f1 = 1.0;
+  mat.f2 = 40.0;
+  mat.c2_min = mat.c2 / 8.0;
+  mat.hardening = 10.0;
+  mat.k2 = 0.5 * mat.k1;
+  mat.c3 = 0.5 * mat.c2;
+  State s = initial_state(m);
+  s.x[1] = m.x0[0] + 1.3 * (m.x0[1] - m.x0[0]);
+  s.d[0] = 1.3 * m.edges[0].L;
+  arm_extension(m, s, 0, 0) = 0.1 * m.edges[0].L;
+  return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementEveryEffect);
+}
+
+TEST(EveryEffectLimit, AnEdgeInsideItsRangeRaisesNoFlagOnEitherModel) {
+  const StepResult golden = expect_step_matches(stretched_every_effect_image());
+  EXPECT_EQ(golden.flags, 0u) << describe_status_flags(golden.flags);
+  EXPECT_GT(golden.state[3], 0) << "the stretched edge pulls the hub toward the leaf (+x)";
+}
+
+// h beyond its word with the damper behind it: z then follows the clamped g |d - L|.
+TEST(EveryEffectLimit, StrainTermBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = stretched_every_effect_image();
+  const bool reached =
+      raise_until_tem_flag(img, 40, [](CoreImage& i) { --i.materials[0].hk.shift; });
+  ASSERT_TRUE(reached) << "h never left its word";
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+}
+
+// z of the damper behind the hardening unit beyond its word.
+TEST(EveryEffectLimit, ZBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = stretched_every_effect_image();
+  const bool reached =
+      raise_until_tem_flag(img, 60, [](CoreImage& i) { --i.materials[0].zk.shift; });
+  ASSERT_TRUE(reached) << "z never left its word";
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+}
+
+// The arm's spring raised until the tension (with the hardened, damped terms) saturates.
+TEST(EveryEffectLimit, ArmForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = stretched_every_effect_image();
+  const bool reached =
+      raise_until_tem_flag(img, 48, [](CoreImage& i) { --i.materials[0].k2t[0].shift; });
+  ASSERT_TRUE(reached) << "the tension never saturated";
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+}
+
 // `pairs` plate particles at z = 0.5 m, each hanging from a fixed anchor 0.25 m above by a
 // stretched edge: each is pulled up through the plate (at 0.5 m), held by it, and adds
 // its upward force to the plate force.
