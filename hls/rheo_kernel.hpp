@@ -139,6 +139,16 @@ inline Operands<1> normalize(std::int64_t v) {
   return normalize<B, R, 1>(block);
 }
 
+// A product of two operands (up to 2B bits, wider than 64 for the wide sweep formats) as one
+// B-bit operand: the same result as normalize on a word that held it.
+template <int B, Rounding R>
+inline Operands<1> normalize_product(i128 v) {
+  Operands<1> out;
+  out.shift = operand_shift<B>(signed_bit_length(v));
+  out.mant[0] = to_operand<B, R>(v, out.shift);
+  return out;
+}
+
 // word * coef, shifted right by a further `extra` bits (the format change), with the word
 // narrowed to an operand first: the operand's exponent is added to the coefficient shift.
 template <class Fmt>
@@ -454,10 +464,10 @@ inline std::int64_t hardening_h(std::int64_t l, std::int64_t L, const Coef& hk,
   const std::int64_t y_l = recip_mantissa<B, R>(to_operand<B, R>(L, nl - (B - 1)));
   const Operands<1> dn = normalize<B, R>(l - L);  // l, L: W-bit words
   // e = dn y_l 2^(dn.shift - (B-2) - (nl-1))
-  const Operands<1> en = normalize<B, R>(static_cast<std::int64_t>(i128(dn.mant[0]) * y_l));
+  const Operands<1> en = normalize_product<B, R>(i128(dn.mant[0]) * y_l);
   const int ee = en.shift + dn.shift - (B - 2) - (nl - 1);
   // e^2 = e2 2^(e2.shift + 2 ee); h = e2 hk with kHardFracH fractional bits
-  const Operands<1> e2 = normalize<B, R>(static_cast<std::int64_t>(i128(en.mant[0]) * en.mant[0]));
+  const Operands<1> e2 = normalize_product<B, R>(i128(en.mant[0]) * en.mant[0]);
   // a right shift beyond 2B rounds every product (< 2^(2B-2)) to 0, a left shift beyond the
   // word overflows every non-zero one: the shift is held to that range
   const int sh = std::clamp(hk.shift - e2.shift - 2 * ee - kHardFracH, -kHardHBits, 2 * B);

@@ -157,9 +157,8 @@ EdgeMaterial::Arm hardware_arm(const EdgeMaterial& m, int j) {
 // f1 and f2 with B = ln(c2 / c2_min) / (f2 - f1): z = zk (|d - L| - d_lo) with
 // d_lo = f1 / k1, d_span = (f2 - f1) / k1 (lengths in Lu) and zk per X-format LSB.
 void encode_damper(const EdgeMaterial& m, double dt, double Lu, double x_limit,
-                   const std::string& where, hls::MaterialCoefs& mc) {
-  using Fmt = hls::HardwareFormat;
-  using S = hls::CoefShifts<Fmt>;
+                   const std::string& where, hls::MaterialCoefs& mc, int frac_x) {
+  using S = hls::CoefShifts<hls::HardwareFormat>;
   const double c = m.c1 + m.c2 + m.k1 * dt;
   const double s_base = (m.c1 + m.k1 * dt) / c;
   const double s_c2 = m.c2 / c;
@@ -177,19 +176,19 @@ void encode_damper(const EdgeMaterial& m, double dt, double Lu, double x_limit,
     const double b = std::log(m.c2 / m.c2_min) / (m.f2 - m.f1);  // per N
     // z per X LSB of |d - L|, with kDamperFracZ fractional bits
     zk = b * m.k1 * Lu * std::log2(std::exp(1.0)) *
-         std::ldexp(1.0, hls::kDamperFracZ - Fmt::kFracX);
+         std::ldexp(1.0, hls::kDamperFracZ - frac_x);
     if (d_lo >= x_limit) {
       // |d - L| never reaches f1 inside the X range: c2 stays c2_max.
       d_lo = d_span = zk = 0.0;
     } else {
       d_span = std::min(d_span, x_limit - d_lo);
-      q_min = std::exp2(-zk * std::ldexp(d_span, Fmt::kFracX - hls::kDamperFracZ));
+      q_min = std::exp2(-zk * std::ldexp(d_span, frac_x - hls::kDamperFracZ));
     }
   }
   mc.d_lo = encode_coef(d_lo, where + "d_lo = f1 / k1", 0);
   mc.d_span = encode_coef(d_span, where + "d_span = (f2 - f1) / k1", 0);
   mc.zk = encode_coef(zk, where + "zk = ln(c2 / c2_min) / (f2 - f1) k1 log2(e) (per X LSB)", 0);
-  const double z_max = zk * std::ldexp(d_span, Fmt::kFracX - hls::kDamperFracZ);
+  const double z_max = zk * std::ldexp(d_span, frac_x - hls::kDamperFracZ);
   if (z_max >= hls::kDamperMaxZInt) {
     throw Error(where + "the series damper's range c2 / c2_min = " + str(std::exp2(z_max)) +
                 " exceeds the core's 2^" + std::to_string(hls::kDamperMaxZInt));
@@ -451,7 +450,7 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
                         S::kCt);
     if (element.scales_coefficients())
       mc.ka = encode_coef(arm_k_sum * Lu / Fu, where + "ka = sum of arm k", S::kCt);
-    if (element.series_damper) encode_damper(m, dt, Lu, x_limit, where, mc);
+    if (element.series_damper) encode_damper(m, dt, Lu, x_limit, where, mc, format.frac_x);
     if (element.strain_hardening) encode_hardening(m, dt, Lu, Fu, where, mc);
     if (m.a_min > 0.0) {
       mc.a_min = encode_coef(m.a_min, where + "a_min", 0);

@@ -122,9 +122,11 @@ hls::Coef encode_coef(double value, const std::string& what, int extra_shift);
 // d_lo, d_span, zk, s_base, s_c2), for a core whose base coefficients in mc are those at
 // c2 = c2_max. A linear material gets zk = 0 (q = 1). Throws when the damper's range does
 // not fit the core (c2 / c2_min beyond 2^63, s below 2^-16, a scaled coefficient's shift
-// outside the packed format), naming the material (`where`) and the value.
+// outside the packed format), naming the material (`where`) and the value. zk is z per LSB
+// of the X format, so it depends on the format's frac_x.
 void encode_damper(const EdgeMaterial& m, double dt, double length_unit, double x_limit,
-                   const std::string& where, hls::MaterialCoefs& mc);
+                   const std::string& where, hls::MaterialCoefs& mc,
+                   int frac_x = hls::HardwareFormat::kFracX);
 // Strain hardening's coefficients of material m (hls::hardened_coefs: hk, s_k, ct_h), for
 // a core whose base coefficients in mc are those of the unhardened spring (and, with the
 // damper, at c2 = c2_max). Throws, naming the material (`where`), when a hardened

@@ -37,8 +37,12 @@ double step(backend::Backend& b, double plate_z) { return b.run(std::span(&plate
 json compare(const Scenario& scenario, const std::vector<std::string>& specs,
              const CompareOptions& options) {
   if (options.steps < 1) throw Error("fixed: --steps must be >= 1");
+  // The model of the core that computes the scenario's edges (driver::edge_element_for: the
+  // damper, hardening and arms are kept when the scenario has them); the backends below
+  // choose the same core from it.
   std::vector<std::string> dropped;
-  const Model model = driver::hardware_model(scenario.build_model(), &dropped);
+  const Model full = scenario.build_model();
+  const Model model = driver::hardware_model(full, &dropped, driver::edge_element_for(full));
   const std::unique_ptr<backend::Backend> reference = backend::make_backend("ref");
   const State initial = initial_state(model);
   reference->load(model, initial, scenario.options);

@@ -11,6 +11,7 @@
 
 #include "host/backend/backend.hpp"
 #include "sim/error.hpp"
+#include "sim/relaxation_spectrum.hpp"
 #include "sim/scenario.hpp"
 
 namespace rheo::backend {
@@ -222,6 +223,44 @@ TEST(Backend, AFourArmSpectrumRunsOnTheFourArmCoreAndItsStateComesBack) {
     }
     EXPECT_GT(scale, 0.0);
     EXPECT_LE(worst, 1e-2 * scale) << spec;
+  }
+}
+
+// Every edge effect (the damper, hardening, eight arms) in the fixed-point formats of `rheo
+// fixed`'s sweep: nothing is dropped, and each format tracks the double reference within
+// what its word allows; the wider formats are not worse than the hardware's (a width
+// assumption in the damper's or hardening's arithmetic, such as a product cast to 64 bits or
+// a coefficient scaled for the hardware's X LSB, shows here as a wide format gone wrong).
+TEST(Backend, EveryEdgeEffectRunsInEveryFixedPointFormat) {
+  // block5's material (continuum values) with every effect, as the shipped scenario
+  // data/scenarios/block5_every_edge_effect.json has them
+  Scenario scenario = load_scenario("block5");
+  EdgeMaterial& m = scenario.block.material;
+  m.nonlinear = true;
+  m.f1 = 200.0;    // Pa
+  m.f2 = 1500.0;   // Pa
+  m.c2_min = m.c2 / 10.0;
+  m.hardening = 200.0;
+  PowerLawSpectrum p;  // the diagnosis' eight-arm power law
+  p.modulus = 5.0e3;
+  p.alpha = 0.3;
+  p.t_lo = 0.05;
+  p.t_hi = 4.0;
+  set_power_law_spectrum(m, p);
+  const Model model = scenario.build_model();
+  const Outcome ref = run_on("ref", model, 1000);
+  double hardware_err = 0.0;
+  for (const std::string& spec : {std::string("fixed:q27_nearest_op18"), std::string("fixed:q19_nearest"),
+                                   std::string("fixed:q27_nearest"), std::string("fixed:q35_nearest")}) {
+    const std::unique_ptr<Backend> b = make_backend(spec);
+    b->load(model, initial_state(model), load_scenario("block5").options.dt);
+    EXPECT_TRUE(b->dropped_features().empty()) << spec << ": " << b->dropped_features().front();
+    const double err = max_diff(run_steps(*b, model, 0, 1000), ref.force) / peak(ref.force);
+    if (spec == "fixed:q27_nearest_op18") hardware_err = err;
+    EXPECT_LE(err, spec == "fixed:q19_nearest" ? 1e-2 : 1e-3) << spec;
+    if (spec == "fixed:q27_nearest" || spec == "fixed:q35_nearest") {
+      EXPECT_LE(err, hardware_err) << spec << " against the hardware format";
+    }
   }
 }
 
