@@ -101,6 +101,10 @@ module rheo_tem #(
                      ((SeriesDamper != 0) ? rheo_consts_pkg::HardDamperTemExtra
                                           : rheo_consts_pkg::HardTemExtra);
   localparam int Last = rheo_consts_pkg::TemLatency - 1 + HD;  // index of the output stage
+  // With the damper and hardening, ka ldot does not wait for the hardened coefficients: it
+  // is computed at stages 30-32 and added to the arms' force at 33 (a lead that waits HD - 1
+  // clocks), so T's sum has four terms rather than five.
+  localparam bit PreLead = (SeriesDamper != 0) && (HD > 0);
   localparam int EW = 6;  // normalisation exponents (< W - B + 2)
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
   // Arm j's coefficients: CGamma + 2 j, CK2t + 2 j; the damper's ka: CKa; hardening's hk,
@@ -353,7 +357,8 @@ module rheo_tem #(
       rheo_delay #(.W(CoefW), .N(29 + HD)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
     end
     if (SeriesDamper != 0) begin : g_ka
-      rheo_delay #(.W(CoefW), .N(29 + HD)) u_ka_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[CKa]), .q_o(coef29[PKa]));
+      // ka waits only for the undelayed operands (PreLead)
+      rheo_delay #(.W(CoefW), .N(29)) u_ka_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[CKa]), .q_o(coef29[PKa]));
     end
     assign clip_damper29 = 1'b0;
   end else if (SeriesDamper != 0) begin : g_damper
@@ -407,11 +412,17 @@ module rheo_tem #(
   logic signed [W-1:0] cres32 [NumProd];
   logic cclip32 [NumProd];
   for (genvar c = 0; c < NumProd; c++) begin : g_coef
+    // the operand: at stage 29 for ka ldot with PreLead, at 29 + HD for the others
+    localparam bit Early = PreLead && c == PKa;
+    logic [B-1:0] opn_c;
+    logic [EW-1:0] ope_c;
+    assign opn_c = Early ? opn29[coef_operand(c)] : opnp[coef_operand(c)];
+    assign ope_c = Early ? ope29[coef_operand(c)] : opep[coef_operand(c)];
     always_ff @(posedge clk_i) begin
-      cprod30_q[c] <= $signed(opnp[coef_operand(c)]) * $signed(coef29[c][CoefMantBits-1:0]);
+      cprod30_q[c] <= $signed(opn_c) * $signed(coef29[c][CoefMantBits-1:0]);
       // shift + extra - e, biased by CoefMaxLeft (>= 0: the host keeps shift + extra >= 0)
       cs30_q[c] <= 7'(coef29[c][CoefW-1:CoefMantBits]) + 7'(CoefMaxLeft - CoefShiftBias) +
-                   7'(coef_extra(c)) - 7'(opep[coef_operand(c)]);
+                   7'(coef_extra(c)) - 7'(ope_c);
     end
     rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(CoefMaxLeft)) u_scale (
       .clk_i(clk_i), .v_i(cprod30_q[c]), .sb_i(cs30_q[c]), .out_o(cres32[c]),
@@ -419,42 +430,55 @@ module rheo_tem #(
   end
 
   // ---- stage 33: dd = beta ldot - alpha ds, T = kt ds + ct ldot + the arms' force ----
-  logic signed [W+2:0] tarm32;  // exact sum of the arms' k2t_j m_j (0 without arms)
+  logic signed [W+2:0] tarm_e32;  // exact sum of the arms' k2t_j m_j at stage 32 (0 without)
+  logic signed [W+3:0] lead_l32;  // the arms' force (+ ka ldot with PreLead) at stage 32 + HD
+  if (PreLead) begin : g_prelead
+    // at most eight arms' words and ka ldot: exact in W + 4 bits
+    logic signed [W+3:0] lead33_q;
+    always_ff @(posedge clk_i) lead33_q <= (W+4)'(tarm_e32) + (W+4)'(cres32[PKa]);
+    rheo_delay #(.W(W+4), .N(HD - 1)) u_lead_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(lead33_q), .q_o(lead_l32));
+  end else begin : g_lead_wait
+    logic signed [W+2:0] tarm_l32;
+    rheo_delay #(.W(W+3), .N(HD)) u_tarm_d2 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tarm_e32), .q_o(tarm_l32));
+    assign lead_l32 = (W+4)'(tarm_l32);
+  end
   logic signed [W-1:0] dd33_q, t33_q;
   logic clip33_q;
   logic signed [W+3:0] t_w;
   logic signed [W:0] dd_w;
-  logic [W+3:0] csa_a, csa_b, csa_c;
-  logic signed [W+3:0] tarm_lead32;  // the arms' force, and ka ldot with the damper
-  if (SeriesDamper != 0 && StrainHardening != 0) begin : g_lead_both
-    // the arms' words, ka ldot and cth ldot: |sum| < 2^(W+2) + 2^W, and with kt ds and
-    // ct ldot T stays below 2^(W+3); the three terms meet in one carry-save step first
-    logic [W+3:0] la, lb, lc;
-    assign la = (W+4)'(tarm32);
-    assign lb = (W+4)'(cres32[PKa]);
-    assign lc = (W+4)'(cres32[PCth]);
-    assign tarm_lead32 = $signed(la ^ lb ^ lc) +
-                         $signed({(la[W+2:0] & lb[W+2:0]) | (la[W+2:0] & lc[W+2:0]) |
-                                  (lb[W+2:0] & lc[W+2:0]), 1'b0});
-  end else if (SeriesDamper != 0) begin : g_lead
-    // at most eight arms' words and ka ldot: |sum| < 2^(W+2) + 2^(W-1), so with kt ds and
-    // ct ldot T stays below 2^(W+3) and the sum below is exact in W + 4 bits
-    assign tarm_lead32 = (W+4)'(tarm32) + (W+4)'(cres32[PKa]);
-  end else if (StrainHardening != 0) begin : g_hard_lead
-    // cth ldot (arms need the damper): T = kt ds + ct ldot + cth ldot, below 2^(W+1)
-    assign tarm_lead32 = (W+4)'(tarm32) + (W+4)'(cres32[PCth]);
-  end else begin : g_no_lead
-    assign tarm_lead32 = (W+4)'(tarm32);
+  // T's terms: kt ds, ct ldot, the arms' words, and ka ldot (damper) and cth ldot
+  // (hardening). At most eight arms' words (|sum| < 2^(W+2)) and four products below 2^(W-1)
+  // each: T stays below 2^(W+3), so every sum below is exact in W + 4 bits (carries out of
+  // the top bit are dropped: the true sum fits).
+  localparam int NumTerms = 3 + ((SeriesDamper != 0 && !PreLead) ? 1 : 0) +
+                            ((StrainHardening != 0) ? 1 : 0);
+  logic [W+3:0] term [5];
+  always_comb begin
+    term[0] = (W+4)'(cres32[CKt]);
+    term[1] = (W+4)'(cres32[CCt]);
+    term[2] = lead_l32;
+    term[3] = (SeriesDamper != 0 && !PreLead) ? (W+4)'(cres32[PKa])
+                                              : (W+4)'(cres32[PCth < NumProd ? PCth : 0]);
+    term[4] = (W+4)'(cres32[PCth < NumProd ? PCth : 0]);
+  end
+  // One carry-save step: three words to a sum word and a carry word (one LUT level each bit).
+  function automatic logic [2*(W+4)-1:0] csa(input logic [W+3:0] a, input logic [W+3:0] b,
+                                             input logic [W+3:0] c);
+    csa = {{(a[W+2:0] & b[W+2:0]) | (a[W+2:0] & c[W+2:0]) | (b[W+2:0] & c[W+2:0]), 1'b0},
+           a ^ b ^ c};
+  endfunction
+  // The terms through carry-save steps (one per term beyond two) and one carry chain.
+  logic [W+3:0] red_s [NumTerms-1], red_c [NumTerms-1];
+  always_comb begin
+    {red_c[0], red_s[0]} = csa(term[0], term[1], term[2]);
+    for (int k = 1; k < NumTerms - 2; k++)
+      {red_c[k], red_s[k]} = csa(red_s[k-1], red_c[k-1], term[2 + k]);
+    red_s[NumTerms-2] = red_s[NumTerms-3];
+    red_c[NumTerms-2] = red_c[NumTerms-3];
   end
   always_comb begin
     dd_w = (W+1)'(cres32[CBeta]) - (W+1)'(cres32[CAlpha]);
-    csa_a = (W+4)'(cres32[CKt]);
-    csa_b = (W+4)'(cres32[CCt]);
-    csa_c = (W+4)'(tarm_lead32);
-    // three terms through one carry chain: a carry-save step (one LUT level) first
-    t_w = $signed(csa_a ^ csa_b ^ csa_c) +
-          $signed({(csa_a[W+2:0] & csa_b[W+2:0]) | (csa_a[W+2:0] & csa_c[W+2:0]) |
-                   (csa_b[W+2:0] & csa_c[W+2:0]), 1'b0});
+    t_w = $signed(red_s[NumTerms-2]) + $signed(red_c[NumTerms-2]);
   end
   always_ff @(posedge clk_i) begin
     dd33_q <= sat(dd_w);
@@ -586,14 +610,14 @@ module rheo_tem #(
       if (Quads > 1) tarm9_q <= (W+3)'(tquad8_q[0]) + (W+3)'(tquad8_q[Quads-1]);
       else tarm9_q <= (W+3)'(tquad8_q[0]);
     end
-    rheo_delay #(.W(W+3), .N(23 + HD)) u_tarm_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tarm9_q), .q_o(tarm32));
+    rheo_delay #(.W(W+3), .N(23)) u_tarm_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tarm9_q), .q_o(tarm_e32));
     assign clip_arm_at6 = |clip6;
     assign clip_arm_at33 = |clip_dm33;
     assign clip_arm_at35 = |clip_m35;
   end else begin : g_no_arms
     logic unused_m;
     assign unused_m = ^m0_q;
-    assign tarm32 = '0;
+    assign tarm_e32 = '0;
     assign clip_arm_at6 = 1'b0;
     assign clip_arm_at33 = 1'b0;
     assign clip_arm_at35 = 1'b0;
@@ -609,7 +633,10 @@ module rheo_tem #(
     flag_at[26] = clip_ldot26;
     flag_at[29] = clip_damper29;
     flag_at[29 + HD] = flag_at[29 + HD] | clip_hard29;
-    for (int c = 0; c < NumProd; c++) flag_at[32 + HD] = flag_at[32 + HD] | cclip32[c];
+    for (int c = 0; c < NumProd; c++) begin
+      if (PreLead && c == PKa) flag_at[32] = flag_at[32] | cclip32[c];
+      else flag_at[32 + HD] = flag_at[32 + HD] | cclip32[c];
+    end
     flag_at[33 + HD] = clip33_q | clip_arm_at33;
     flag_at[35 + HD] = clip35_q | clip_arm_at35;
   end
