@@ -1,5 +1,6 @@
 // Shared by the cosimulation tests of the edge's optional parts (arm_cosim_test.cpp,
-// damper_cosim_test.cpp): how much a part changes the plate force, and the printed figures.
+// damper_cosim_test.cpp, hardening_cosim_test.cpp, every_effect_cosim_test.cpp): the run
+// and what each must show, how much a part changes the plate force, and the printed figures.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -10,10 +11,38 @@
 #include <string>
 
 #include "host/cosim/cosim.hpp"
+#include "host/driver/core_image.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
 
 namespace rheo::cosim_test {
+
+// Runs `steps` of `scenario` on the one-lane RTL core against the bit-true model (state
+// compared every 5 steps) and checks what every feature's cosimulation must show: the core
+// of `element` was chosen, bit-exact over all steps, nothing dropped, fixed point within the
+// given bounds of the double reference, and the measured cycles per step equal to the
+// formula with the element's TEM drain.
+inline cosim::CosimResult expect_exact_feature_cosim(const Scenario& scenario,
+                                                     const hls::EdgeElement& element, long steps,
+                                                     double max_pos_err_rel,
+                                                     double max_force_err_rel) {
+  cosim::CosimOptions opt;
+  opt.steps = steps;
+  opt.lanes = 1;
+  opt.compare_every = 5;
+  const cosim::CosimResult r = cosim::run_cosim(scenario, opt);
+  EXPECT_EQ(r.element, element.name);
+  EXPECT_EQ(r.mismatches, 0) << (r.first.empty() ? "" : r.first.front().describe());
+  EXPECT_EQ(r.steps, steps);
+  EXPECT_TRUE(r.dropped_features.empty())
+      << "dropped: " << (r.dropped_features.empty() ? "" : r.dropped_features.front());
+  EXPECT_LE(r.max_pos_err_rel, max_pos_err_rel);
+  EXPECT_LE(r.max_force_err_rel, max_force_err_rel);
+  EXPECT_EQ(r.cycles_per_step_formula,
+            driver::cycles_per_step_formula(r.edge_rows, r.particles, 1, element));
+  EXPECT_DOUBLE_EQ(r.cycles_per_step_measured, double(r.cycles_per_step_formula));
+  return r;
+}
 
 struct ForceEffect {
   double max_diff_N = 0.0;  // largest |fixed-point force - force without the part|

@@ -19,9 +19,7 @@
 namespace rheo::driver {
 namespace {
 
-using cosim::CosimOptions;
 using cosim::CosimResult;
-using cosim::run_cosim;
 
 // The push (2 s at 1 ms steps) and the first 2 s of the hold, where the damper's flow shows.
 constexpr long kRunSteps = 4000;
@@ -33,7 +31,6 @@ constexpr double kMaxForceErrorRel = 5e-4;
 // The damper must matter: the force differs from a double reference with the linear
 // damper (c2 throughout) by far more than the quantisation bound.
 constexpr double kMinDamperEffectRel = 0.05;
-constexpr double kCycleFormulaTolerance = 0.02;
 
 void add_damper(Scenario& s) {
   EdgeMaterial& m = s.block.material;
@@ -64,20 +61,8 @@ Scenario block5_with_damper_and_power_law() {
 // double reference and differs from the linear damper; prints the figures under `label`.
 void expect_damper_cosim(const char* label, const Scenario& scenario,
                          const hls::EdgeElement& element) {
-  CosimOptions opt;
-  opt.steps = kRunSteps;
-  opt.lanes = 1;
-  opt.compare_every = 5;
-  const CosimResult r = run_cosim(scenario, opt);
-  EXPECT_EQ(r.element, element.name);
-  EXPECT_EQ(r.mismatches, 0) << (r.first.empty() ? "" : r.first.front().describe());
-  EXPECT_EQ(r.steps, kRunSteps);
-  EXPECT_TRUE(r.dropped_features.empty())
-      << "dropped: " << (r.dropped_features.empty() ? "" : r.dropped_features.front());
-  EXPECT_LE(r.max_pos_err_rel, kMaxPositionErrorRel);
-  EXPECT_LE(r.max_force_err_rel, kMaxForceErrorRel);
-  EXPECT_NEAR(r.cycles_per_step_measured, double(r.cycles_per_step_formula),
-              kCycleFormulaTolerance * r.cycles_per_step_formula);
+  const CosimResult r = cosim_test::expect_exact_feature_cosim(
+      scenario, element, kRunSteps, kMaxPositionErrorRel, kMaxForceErrorRel);
 
   // the damper's effect: against the double model with c2 throughout
   Model linear = scenario.build_model();

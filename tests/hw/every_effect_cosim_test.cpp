@@ -17,9 +17,7 @@
 namespace rheo::driver {
 namespace {
 
-using cosim::CosimOptions;
 using cosim::CosimResult;
-using cosim::run_cosim;
 
 constexpr long kRunSteps = 10000;  // push, hold, release and after: the whole protocol
 // Fixed point against the double reference: the damper and hardening tests' bounds.
@@ -41,24 +39,12 @@ TEST(EveryEffectCosim, Block5WithEveryEdgeEffectIsBitExactOverTheWholeProtocol) 
   ASSERT_GT(scenario.block.material.hardening, 0.0);
   EXPECT_EQ(edge_element_for(model), hls::kThreeElementEveryEffect);
 
-  CosimOptions opt;
-  opt.steps = kRunSteps;
-  opt.lanes = 1;
-  opt.compare_every = 5;
-  const CosimResult r = run_cosim(scenario, opt);
-  EXPECT_EQ(r.element, hls::kThreeElementEveryEffect.name);
-  EXPECT_EQ(r.mismatches, 0) << (r.first.empty() ? "" : r.first.front().describe());
-  EXPECT_EQ(r.steps, kRunSteps);
-  EXPECT_TRUE(r.dropped_features.empty())
-      << "dropped: " << (r.dropped_features.empty() ? "" : r.dropped_features.front());
-  EXPECT_LE(r.max_pos_err_rel, kMaxPositionErrorRel);
-  EXPECT_LE(r.max_force_err_rel, kMaxForceErrorRel);
-  // the formula with the every-effect TEM's drain, to the cycle
-  EXPECT_EQ(r.cycles_per_step_formula,
-            cycles_per_step_formula(r.edge_rows, r.particles, 1, hls::kThreeElementEveryEffect));
+  const CosimResult r = cosim_test::expect_exact_feature_cosim(
+      scenario, hls::kThreeElementEveryEffect, kRunSteps, kMaxPositionErrorRel,
+      kMaxForceErrorRel);
+  // the every-effect TEM's longer drain
   EXPECT_EQ(r.cycles_per_step_formula, cycles_per_step_formula(r.edge_rows, r.particles, 1) +
                                            hls::kHardDamperTemExtra);
-  EXPECT_DOUBLE_EQ(r.cycles_per_step_measured, double(r.cycles_per_step_formula));
 
   // each effect's share of the force: the double model without it
   struct Without {
