@@ -38,6 +38,10 @@ struct EdgeElement {
   // Strain hardening: the Voigt spring stiffens with the edge's strain
   // (hls::hardened_coefs). Its TEM runs kHardTemExtra clocks longer.
   bool strain_hardening = false;
+  // Volume (3-D) preservation: the core's edge pass also computes volume elements, one per
+  // two slots of a lane (hls::volume_element). Not a part of the edge, but of the core
+  // that carries it, so it is named with the edge element.
+  bool volume_preservation = false;
 
   constexpr bool has_maxwell_arm() const { return maxwell_arms > 0; }
   // Whether the edge's coefficients are scaled per edge (the damper or hardening): the arms'
@@ -62,14 +66,16 @@ struct EdgeElement {
     return frame::arm_of_region(region) >= 0 && frame::arm_of_region(region) < maxwell_arms;
   }
   // The RTL parameters that build this variant (beside Lanes).
-  constexpr std::array<RtlParameter, 3> rtl_parameters() const {
+  constexpr std::array<RtlParameter, 4> rtl_parameters() const {
     return {RtlParameter{"MaxwellArms", maxwell_arms},
             RtlParameter{"SeriesDamper", series_damper ? 1 : 0},
-            RtlParameter{"StrainHardening", strain_hardening ? 1 : 0}};
+            RtlParameter{"StrainHardening", strain_hardening ? 1 : 0},
+            RtlParameter{"VolumePreservation", volume_preservation ? 1 : 0}};
   }
   friend constexpr bool operator==(const EdgeElement& a, const EdgeElement& b) {
     return a.maxwell_arms == b.maxwell_arms && a.series_damper == b.series_damper &&
-           a.strain_hardening == b.strain_hardening;
+           a.strain_hardening == b.strain_hardening &&
+           a.volume_preservation == b.volume_preservation;
   }
 };
 
@@ -108,12 +114,24 @@ inline constexpr EdgeElement kThreeElementEveryEffect{
     "hardening and eight parallel Maxwell arms",
     8, true, true};
 
+// Volume preservation beside the paper's edge, and beside every edge effect (the core of a
+// model with every feature).
+inline constexpr EdgeElement kThreeElementWithVolume{
+    "three-element+volume",
+    "the three-element edge, and volume-preserving forces per tetrahedron in the edge pass", 0,
+    false, false, true};
+inline constexpr EdgeElement kEveryFeature{
+    "three-element+damper+hardening+8arms+volume",
+    "every feature: the edge with every effect, and volume-preserving forces per tetrahedron",
+    8, true, true, true};
+
 // Every variant the bit-true model and the RTL implement, in the order edge_element_with
 // tries them (among variants with the same parts, fewer arms first).
-inline constexpr std::array<EdgeElement, 8> kEdgeElements{
+inline constexpr std::array<EdgeElement, 10> kEdgeElements{
     kThreeElement,           kThreeElementWithArm,    kThreeElementWith4Arms,
     kThreeElementWith8Arms,  kThreeElementWithDamper, kThreeElementWithDamper8Arms,
-    kThreeElementWithHardening, kThreeElementEveryEffect};
+    kThreeElementWithHardening, kThreeElementEveryEffect, kThreeElementWithVolume,
+    kEveryFeature};
 
 // The variant named `name`, or nullptr.
 constexpr const EdgeElement* find_edge_element(std::string_view name) {
@@ -124,11 +142,13 @@ constexpr const EdgeElement* find_edge_element(std::string_view name) {
 }
 
 // The simplest variant with at least `arms` Maxwell arms (and the series damper when
-// `damper`, strain hardening when `hardening`), or nullptr.
-constexpr const EdgeElement* edge_element_with(int arms, bool damper, bool hardening = false) {
+// `damper`, strain hardening when `hardening`, volume preservation when `volume`), or
+// nullptr.
+constexpr const EdgeElement* edge_element_with(int arms, bool damper, bool hardening = false,
+                                               bool volume = false) {
   for (const EdgeElement& e : kEdgeElements) {
     if (e.maxwell_arms >= arms && (e.series_damper || !damper) &&
-        (e.strain_hardening || !hardening))
+        (e.strain_hardening || !hardening) && (e.volume_preservation || !volume))
       return &e;
   }
   return nullptr;
@@ -144,7 +164,8 @@ inline std::int64_t core_step_for(const EdgeElement& element, CoreMemory& mem,
       ((element == kEdgeElements[I]
             ? (plate = core_step<Fmt, kEdgeElements[I].maxwell_arms,
                                  kEdgeElements[I].series_damper,
-                                 kEdgeElements[I].strain_hardening>(mem),
+                                 kEdgeElements[I].strain_hardening,
+                                 kEdgeElements[I].volume_preservation>(mem),
                true)
             : false) ||
        ...);

@@ -43,6 +43,9 @@ struct Format {
   // Unit vector u = r / |r| as an operand: Q1.(OperandBits-2), so that u = +-1 (an edge
   // along an axis) is representable.
   static constexpr int kFracU = OperandBitsV - 2;
+  // Volume preservation: an element's six-fold volume as a word with kFracV fractional bits
+  // (Lu^3); 64 bits hold it for elements up to (16 Lu)^3 (the host checks each one).
+  static constexpr int kFracV = 2 * FracXV < 46 ? 2 * FracXV : 46;
   static_assert(kWidth >= 16 && kWidth <= 48, "products must fit in 128 bits");
   static_assert(kFracP <= kWidth - 1 && kFracX < kFracP, "p must be finer than x");
   static_assert(kOperandBits >= 18 && kOperandBits <= kWidth,
@@ -148,6 +151,8 @@ enum StatusBit : std::uint32_t {
   // A row of the edge schedule has two end particles in one bank (or an end bank beyond
   // the lanes): the crossbar cannot serve it, forces of that row are not trustworthy.
   kStatusScheduleConflict = 1u << 5,
+  // A volume element's force saturated (the element pass, volume preservation).
+  kStatusVolumeSaturated = 1u << 6,
 };
 
 // Material table entry flags.
@@ -203,6 +208,16 @@ inline constexpr int kMpmDrainCycles = kMpmLatency + 5;
 inline constexpr int kForceAccGuardBits = 8;
 inline constexpr int kPlateAccGuardBits = 16;
 
+// Volume (3-D) preservation (rheo::VolumePreservation) in the edge pass: a tetrahedron
+// takes two consecutive slots of one lane (its vertices a, b in the first, c, d in the
+// second; hls::volume_element). Its six-fold volume V6 = e_b . (e_c x e_d), e_k = x_k - x_a,
+// is computed with kVolOperandBits-bit operands: two MULT18X18 columns per operand, so the
+// hardware format's (Width + 1)-bit differences pass whole and the cross product is exact.
+// V6 - V6_0 then cancels without the operand rounding of the edges' 18-bit products (which
+// would leave V / V0 - 1 with an error near 1e-5). The gradients and the force products use
+// the format's operands.
+inline constexpr int kVolOperandBits = 35;
+
 // Extra right shifts of the coefficient products, fixed by the formats:
 //   ddot*dt = beta * ldot (P -> P)  - alpha * (d - L) (X -> P)
 //   T = kt * (d - L) (X -> F) + ct * ldot (P -> F)
@@ -218,6 +233,8 @@ struct CoefShifts {
   static constexpr int kMinv = Fmt::kFracF - Fmt::kFracP;
   static constexpr int kGamma = Fmt::kFracX - Fmt::kFracP;
   static constexpr int kK2t = Fmt::kFracX - Fmt::kFracF;
+  // Volume element: f = c * (V6 - V6_0) (V format) * g6 (two X-format factors) -> F.
+  static constexpr int kVolume = Fmt::kFracV + 2 * Fmt::kFracX - Fmt::kFracF;
 };
 
 }  // namespace rheo::hls

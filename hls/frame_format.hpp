@@ -107,6 +107,14 @@ inline constexpr int kEdgeEndBankShift = 24;
 inline constexpr int kEdgeBankBits = 4;
 inline constexpr int kEdgeValidBit = 31;
 inline constexpr std::uint32_t kEdgeValid = 1u << kEdgeValidBit;
+// A volume element's halves (hls::EdgeEntry): bit 30 marks an element slot, bit 29 its
+// second half. The first half's L and d words hold V6_0 (low 32 bits in L), the second
+// half's L the packed coefficient.
+inline constexpr int kEdgeElementBit = 30;
+inline constexpr int kEdgeSecondBit = 29;
+inline constexpr std::uint32_t kEdgeElement = 1u << kEdgeElementBit;
+inline constexpr std::uint32_t kEdgeSecond = 1u << kEdgeSecondBit;
+static_assert(kEdgeEndBankShift + kEdgeBankBits <= kEdgeSecondBit);
 
 // Packed coefficient: mantissa [17:0] (two's complement), shift [23:18].
 inline constexpr int kCoefShiftPos = 18;

@@ -62,6 +62,10 @@ int main() {
   param("StatusPlateSat", h::kStatusPlateSaturated, "status bit");
   param("StatusBadCommand", h::kStatusBadCommand, "status bit");
   param("StatusScheduleConflict", h::kStatusScheduleConflict, "status bit");
+  param("StatusVolumeSat", h::kStatusVolumeSaturated, "status bit");
+  param("VolOperandBits", h::kVolOperandBits, "volume element: operands of V6's products");
+  param("FracV", Fmt::kFracV, "fractional bits of six-fold element volumes");
+  param("ShiftVolume", Shifts::kVolume, "extra shift of c*D*g: V, X^2 -> F");
   param("MatClampLow", h::kClampLowEnable, "material flag");
   param("MatClampHigh", h::kClampHighEnable, "material flag");
   param("ParticleFixed", h::kCoreFixed, "particle flag");
@@ -113,6 +117,8 @@ int main() {
   param("EdgeEndBankShift", f::kEdgeEndBankShift, "edge word 0: end bank");
   param("EdgeBankBits", f::kEdgeBankBits, "edge word 0: end bank bits");
   param("EdgeValidBit", f::kEdgeValidBit, "edge word 0: valid (0: bubble)");
+  param("EdgeElementBit", f::kEdgeElementBit, "edge word 0: a volume element's half");
+  param("EdgeSecondBit", f::kEdgeSecondBit, "edge word 0: the element's second half");
   param("NumBaseRegions", f::kNumBaseRegions, "regions of a core without Maxwell arms");
   param("StatusWords", f::kStatusWords, "words of a status response");
   param("StatusClearBit", std::countr_zero(f::kStatusClear),

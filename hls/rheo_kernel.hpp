@@ -647,6 +647,128 @@ inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* s
   return out;
 }
 
+// ---- volume preservation -----------------------------------------------------------------
+
+// A packed coefficient word (frame::kCoefShiftPos): mantissa [17:0], shift + bias [23:18].
+inline Coef unpack_coef(std::uint32_t w) {
+  Coef c;
+  const std::int32_t mant = static_cast<std::int32_t>(w << (32 - kCoefMantBits));
+  c.mant = mant >> (32 - kCoefMantBits);  // sign-extend the mantissa
+  c.shift = static_cast<std::int32_t>((w >> frame::kCoefShiftPos) & ((1u << kCoefShiftBits) - 1)) -
+            kCoefShiftBias;
+  return c;
+}
+
+// normalize for values wider than a word (exact products).
+template <int B, Rounding R, int N>
+inline Operands<N> normalize_wide(const i128 (&v)[N]) {
+  i128 bits = 0;
+  for (int i = 0; i < N; ++i) bits |= v[i] < 0 ? ~v[i] : v[i];
+  Operands<N> out;
+  out.shift = operand_shift<B>(bit_length(bits));
+  for (int i = 0; i < N; ++i) out.mant[i] = to_operand<B, R>(v[i], out.shift);
+  return out;
+}
+
+// One tetrahedron (a, b, c, d) of a model with volume preservation (rheo::Simulator's
+// add_volume_forces): pressure p = -kv (V - V0) / |V0| and the force p dV/dx_k on each
+// vertex. In words (CoefShifts::kVolume, docs/hardware.md "Volume preservation"):
+//   e_k = x_k - x_a (k = b, c, d; exact),  g_b = e_c x e_d,  V6 = e_b . g_b
+//   D = V6 - V6_0 (V format, kFracV fractional bits)
+//   P = -c D,  c = kv Lu^2 / (36 Fu |V0|)
+//   g_c = e_d x e_b,  g_d = e_b x e_c,  g_a = -(g_b + g_c + g_d)     (g_k = 6 dV/dx_k)
+//   f_k = P g_k
+// e_k, g_b and V6 with kVolOperandBits-bit operands (exact for the hardware format), g_c, g_d
+// and the products after D with the format's operands (g_b rounded to their scale).
+struct VolumeIn {
+  std::int64_t x[4][3];  // vertices a, b, c, d (X format)
+  std::int64_t v0 = 0;   // V6_0: six times the rest volume (V format)
+  Coef c;                // kv Lu^2 / (36 Fu |V0|)
+};
+
+struct VolumeOut {
+  std::int64_t f[4][3];     // force on a, b, c, d (F format)
+  bool saturated[4][3];     // which of them saturated (kStatusVolumeSaturated)
+};
+
+// The intermediate values of one volume_element call, filled when the caller asks (the RTL
+// test checks which operand holds, exponents and shift clamps its elements reach).
+struct VolumeTrace {
+  i128 e[9];    // e_b, e_c, e_d
+  i128 gb[3];   // g_b, exact
+  i128 v6;      // V6 (V format)
+  i128 d, p;    // D and -c D^ before their normalisation
+  i128 g[12];   // g_a, g_b, g_c, g_d in e^'s units
+  Operands<9> ev, en;
+  Operands<3> gv;
+  Operands<1> dn, pn;
+  Operands<12> gn;
+  int shift_raw;  // the force products' shift before its clamp
+};
+
+template <class Fmt>
+inline VolumeOut volume_element(const VolumeIn& in, std::uint32_t* status,
+                                VolumeTrace* trace = nullptr) {
+  constexpr int W = Fmt::kWidth;
+  constexpr int B = Fmt::kOperandBits;
+  constexpr int VB = kVolOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
+  VolumeTrace t;
+  i128* e = t.e;
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) e[3 * k + i] = i128(in.x[k + 1][i]) - in.x[0][i];
+  // V6 = e_b . (e_c x e_d) with wide operands.
+  t.ev = normalize_wide<VB, R, 9>(t.e);
+  const std::int64_t* eb = &t.ev.mant[0];
+  const std::int64_t* ec = &t.ev.mant[3];
+  const std::int64_t* ed = &t.ev.mant[6];
+  t.gb[0] = i128(ec[1]) * ed[2] - i128(ec[2]) * ed[1];
+  t.gb[1] = i128(ec[2]) * ed[0] - i128(ec[0]) * ed[2];
+  t.gb[2] = i128(ec[0]) * ed[1] - i128(ec[1]) * ed[0];
+  t.gv = normalize_wide<VB, R, 3>(t.gb);
+  const i128 v6_raw =
+      i128(eb[0]) * t.gv.mant[0] + i128(eb[1]) * t.gv.mant[1] + i128(eb[2]) * t.gv.mant[2];
+  // v6_raw 2^(3 ev.shift + gv.shift) in units of 2^-3FracX Lu^3.
+  t.v6 = shift_round<R>(v6_raw, 3 * Fmt::kFracX - Fmt::kFracV - 3 * t.ev.shift - t.gv.shift);
+  t.d = t.v6 - in.v0;
+  t.dn = normalize_wide<B, R, 1>({t.d});
+  // P = -c D as an operand: value pn 2^(pn.shift + dn.shift - c.shift).
+  t.p = -(i128(t.dn.mant[0]) * in.c.mant);
+  t.pn = normalize_wide<B, R, 1>({t.p});
+  // The gradients with the format's operands: value g 2^(2 en.shift), X^2 units.
+  t.en = normalize_wide<B, R, 9>(t.e);
+  const std::int64_t* nb = &t.en.mant[0];
+  const std::int64_t* nc = &t.en.mant[3];
+  const std::int64_t* nd = &t.en.mant[6];
+  i128* g = t.g;
+  for (int i = 0; i < 3; ++i)
+    g[3 + i] = shift_round<R>(t.gb[i], 2 * t.en.shift - 2 * t.ev.shift);
+  g[6] = i128(nd[1]) * nb[2] - i128(nd[2]) * nb[1];
+  g[7] = i128(nd[2]) * nb[0] - i128(nd[0]) * nb[2];
+  g[8] = i128(nd[0]) * nb[1] - i128(nd[1]) * nb[0];
+  g[9] = i128(nb[1]) * nc[2] - i128(nb[2]) * nc[1];
+  g[10] = i128(nb[2]) * nc[0] - i128(nb[0]) * nc[2];
+  g[11] = i128(nb[0]) * nc[1] - i128(nb[1]) * nc[0];
+  for (int i = 0; i < 3; ++i) g[i] = -(g[3 + i] + g[6 + i] + g[9 + i]);
+  t.gn = normalize_wide<B, R, 12>(t.g);
+  t.shift_raw = CoefShifts<Fmt>::kVolume + in.c.shift - t.pn.shift - t.dn.shift - t.gn.shift -
+                2 * t.en.shift;
+  // Clamped to [-64, 2B]: a larger left shift saturates any non-zero product anyway, and a
+  // larger right shift rounds every product (|pn gn| <= 2^(2B-2)) to 0 anyway.
+  const int shift = std::clamp(t.shift_raw, -64, 2 * B);
+  VolumeOut out;
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i) {
+      std::uint32_t sat = 0;
+      out.f[k][i] = saturate(shift_round<R>(i128(t.pn.mant[0]) * t.gn.mant[3 * k + i], shift),
+                             W, &sat, kStatusVolumeSaturated);
+      out.saturated[k][i] = sat != 0;
+      *status |= sat;
+    }
+  if (trace) *trace = t;
+  return out;
+}
+
 // ---- MPM ------------------------------------------------------------------------------
 
 struct MpmParticle {
@@ -743,8 +865,16 @@ inline std::int64_t mpm_particle(MpmParticle& q, const std::int64_t f[3], const 
 // address i / lanes. Edge slot t belongs to lane t % lanes and schedule row t / lanes; the
 // slot's start particle lives in the lane's own bank, its end particle in bank e_bank.
 // Empty slots (valid = false) are bubbles of the schedule.
+// A volume element (Volume cores) takes two consecutive rows of one lane: the first slot
+// (element) holds vertices a (start) and b (end) and V6_0 split over L (low 32 bits) and d
+// (the rest); the second (element, second) holds c and d and the packed coefficient in L.
+// The core keeps one element half per lane: a second half that does not follow a first
+// half in the lane's previous row, or an element slot on a core without the element unit,
+// is a schedule conflict.
 struct EdgeEntry {
   bool valid = false;
+  bool element = false;  // half of a volume element, not an edge
+  bool second = false;   // the element's second half
   std::uint32_t s_local = 0;  // start particle: local address in the lane's bank
   std::uint32_t e_bank = 0;   // end particle: bank and local address
   std::uint32_t e_local = 0;
@@ -774,10 +904,14 @@ struct CoreMemory {
 // step (the MPM pass starts after the edge pass), and the force sums are exact (wide,
 // saturated only when narrowed for the MPM), so neither the slot order nor the lane
 // assignment changes any bit.
-template <class Fmt, int Arms = 0, bool Damper = false, bool Hardening = false>
+template <class Fmt, int Arms = 0, bool Damper = false, bool Hardening = false,
+          bool Volume = false>
 inline std::int64_t core_step(CoreMemory& mem) {
   constexpr int W = Fmt::kWidth;
   const std::uint32_t lanes = mem.lanes;
+  // Per lane, the first half of an element whose second half may come in the next row.
+  bool first_pending[kMaxLanes] = {};
+  std::uint32_t first_slot[kMaxLanes] = {};
 edge_pass:
   for (std::uint32_t row = 0; row < mem.edge_rows; ++row) {
 #pragma HLS PIPELINE II = 1
@@ -788,6 +922,8 @@ edge_pass:
       const std::uint32_t slot = row * lanes + lane;
       if (slot >= std::uint32_t(kMaxEdges)) break;
       EdgeEntry& edge = mem.edges[slot];
+      const bool pending = first_pending[lane];
+      first_pending[lane] = false;
       if (!edge.valid) continue;
       // The crossbar serves one end particle per bank and row (the host's schedule).
       if (edge.e_bank >= lanes || (end_banks_used & (1u << edge.e_bank)))
@@ -796,6 +932,33 @@ edge_pass:
       const std::uint32_t si = edge.s_local * lanes + lane;
       const std::uint32_t ei = edge.e_local * lanes + edge.e_bank;
       if (si >= std::uint32_t(kMaxParticles) || ei >= std::uint32_t(kMaxParticles)) continue;
+      if (edge.element) {
+        if (!Volume || (edge.second && !pending)) {
+          mem.status |= kStatusScheduleConflict;
+        } else if (!edge.second) {
+          first_pending[lane] = true;
+          first_slot[lane] = slot;
+        } else {
+          const EdgeEntry& first = mem.edges[first_slot[lane]];
+          const std::uint32_t ai = first.s_local * lanes + lane;
+          const std::uint32_t bi = first.e_local * lanes + first.e_bank;
+          const std::uint32_t vertex[4] = {ai, bi, si, ei};
+          VolumeIn vin;
+          for (int k = 0; k < 4; ++k)
+            for (int i = 0; i < 3; ++i) vin.x[k][i] = mem.particles[vertex[k]].x[i];
+          vin.v0 = static_cast<std::int64_t>((std::uint64_t(first.d) << 32) |
+                                             std::uint32_t(first.L));
+          vin.c = unpack_coef(std::uint32_t(edge.L));
+          const VolumeOut out = volume_element<Fmt>(vin, &mem.status);
+          for (int i = 0; i < 3; ++i) {
+            mem.force_start[ai][i] += out.f[0][i];
+            mem.force_end[bi][i] += out.f[1][i];
+            mem.force_start[si][i] += out.f[2][i];
+            mem.force_end[ei][i] += out.f[3][i];
+          }
+        }
+        continue;
+      }
       const MpmParticle& s = mem.particles[si];
       const MpmParticle& e = mem.particles[ei];
       TemIn in;

@@ -37,6 +37,10 @@ package rheo_consts_pkg;
   localparam int StatusPlateSat = 8;  // status bit
   localparam int StatusBadCommand = 16;  // status bit
   localparam int StatusScheduleConflict = 32;  // status bit
+  localparam int StatusVolumeSat = 64;  // status bit
+  localparam int VolOperandBits = 35;  // volume element: operands of V6's products
+  localparam int FracV = 46;  // fractional bits of six-fold element volumes
+  localparam int ShiftVolume = 80;  // extra shift of c*D*g: V, X^2 -> F
   localparam int MatClampLow = 1;  // material flag
   localparam int MatClampHigh = 2;  // material flag
   localparam int ParticleFixed = 1;  // particle flag
@@ -86,6 +90,8 @@ package rheo_consts_pkg;
   localparam int EdgeEndBankShift = 24;  // edge word 0: end bank
   localparam int EdgeBankBits = 4;  // edge word 0: end bank bits
   localparam int EdgeValidBit = 31;  // edge word 0: valid (0: bubble)
+  localparam int EdgeElementBit = 30;  // edge word 0: a volume element's half
+  localparam int EdgeSecondBit = 29;  // edge word 0: the element's second half
   localparam int NumBaseRegions = 6;  // regions of a core without Maxwell arms
   localparam int StatusWords = 4;  // words of a status response
   localparam int StatusClearBit = 0;  // status header count: clear the sticky flags after reading

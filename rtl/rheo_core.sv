@@ -58,6 +58,15 @@
 // HardTemExtra clocks longer (HardDamperTemExtra with the damper too), and so does the edge
 // pass's drain (the TEM drain of the cycle formula); a core without it refuses the region.
 // With arms it needs the damper as well (the element with every effect).
+// VolumePreservation = 1 builds the variant with a volume element unit per lane
+// (rheo_volume): a tetrahedron takes two consecutive slots of a lane (record bits element
+// and second half), its vertices a, b read as the first slot's start and end particles and
+// c, d as the second's; the unit's forces come out in the TEM's output clocks of the two
+// slots (it has the TEM's latency) and are added to the four particles' sums through the
+// same accumulator ports. The TEM sees neither slot. Same cycles per step for the same
+// rows; the host schedules the elements' rows after the edges' (make_core_image). A second
+// half that does not follow a first half in the lane's previous row, or an element slot on
+// a core without the unit, is a schedule conflict.
 module rheo_core #(
   parameter int Lanes = 1,              // parallel TEM/MPM lanes and banks (1..4)
   parameter int MaxParticles = 4096,    // particle memory depth (all banks)
@@ -67,7 +76,8 @@ module rheo_core #(
   parameter int CoefW = 24,             // packed coefficient width
   parameter int MaxwellArms = 0,        // parallel Maxwell arms per TEM (0..MaxArms)
   parameter int SeriesDamper = 0,       // force-dependent series damper in every TEM (0/1)
-  parameter int StrainHardening = 0     // strain hardening in every TEM (0/1)
+  parameter int StrainHardening = 0,    // strain hardening in every TEM (0/1)
+  parameter int VolumePreservation = 0  // a volume element unit per lane (0/1)
 ) (
   input  logic         clk_i,
   input  logic         rst_ni,
@@ -103,8 +113,13 @@ module rheo_core #(
   localparam int IdxCountW = rheo_consts_pkg::IdxCountW;
   localparam int RegionW = rheo_consts_pkg::HeaderRegionBits;
   localparam int FieldW = rheo_consts_pkg::EntryFieldW;
-  // Edge slot record: {valid, end bank, end local address, start local address}.
-  localparam int RecW = 1 + EBW + 2 * PAW;
+  // Edge slot record: {valid, element, second half, end bank, end local, start local}.
+  localparam int RecW = 3 + EBW + 2 * PAW;
+  // The TEM's latency, which the volume element unit matches (rheo_tem's Last + 1).
+  localparam int TemLat = rheo_consts_pkg::TemLatency +
+                          ((StrainHardening == 0) ? 0
+                           : ((SeriesDamper != 0) ? rheo_consts_pkg::HardDamperTemExtra
+                                                  : rheo_consts_pkg::HardTemExtra));
   // Carried through the TEM: {row, start local, end bank, end local}.
   localparam int TemIdxW = EAW + PAW + BW + PAW;
 
@@ -161,6 +176,14 @@ module rheo_core #(
   logic [EAW-1:0] row1_q;
   logic [RecW-1:0] rec1 [Lanes];
   logic [Lanes-1:0] valid1;
+  // Volume elements: the slot is an element half (elem1), its second half (second1); a
+  // first half was issued in the lane's previous row (pend_q); halves the unit takes.
+  logic [Lanes-1:0] elem1, second1, pend_q, vol_take1, elem_conflict;
+  logic vv2_q [Lanes], vsec2_q [Lanes];
+  logic [Lanes-1:0] vol_valid;
+  logic vol_sat [Lanes];
+  logic [Lanes*3*W-1:0] vol_fs, vol_fe, res_f, res_fe;
+  logic [Lanes-1:0] res_valid;
   logic [PAW-1:0] s_local1 [Lanes];
   logic [Lanes*PAW-1:0] e_local1;
   logic [Lanes*EBW-1:0] e_bank1;
@@ -247,6 +270,13 @@ module rheo_core #(
 
     // ---- edge pass stage 1: the slot's particles ----
     assign valid1[j] = ev1_q && rec1[j][RecW-1];
+    assign elem1[j] = rec1[j][RecW-2];
+    assign second1[j] = rec1[j][RecW-3];
+    // The unit takes a first half, and a second half right after its first half
+    // (hls::core_step's rule); anything else with the element bit is a conflict.
+    assign vol_take1[j] = (VolumePreservation != 0) && valid1[j] && elem1[j] &&
+                          (!second1[j] || pend_q[j]);
+    assign elem_conflict[j] = valid1[j] && elem1[j] && !vol_take1[j];
     assign e_bank1[j*EBW +: EBW] = rec1[j][2*PAW +: EBW];
     assign e_local1[j*PAW +: PAW] = rec1[j][PAW +: PAW];
     assign s_local1[j] = rec1[j][PAW-1:0];
@@ -277,6 +307,37 @@ module rheo_core #(
     );
     assign {tem_row[j], tem_s_local[j*PAW +: PAW], tem_e_bank[j*BW +: BW],
             tem_e_local[j*PAW +: PAW]} = tem_idx[j];
+
+    // ---- edge pass stage 2: volume element unit (the TEM's latency, so that its two
+    // beats take the output clocks of the element's two slots; the TEM's index delay line
+    // carries their particle addresses) ----
+    if (VolumePreservation != 0) begin : g_vol
+      rheo_volume #(.Latency(TemLat)) u_vol (
+        .clk_i   (clk_i),
+        .rst_ni  (rst_ni),
+        .valid_i (vv2_q[j]),
+        .second_i(vsec2_q[j]),
+        .xs_i    (xp_a_data[j*XpW +: 3*W]),
+        .xe_i    (end_xp2[j*XpW +: 3*W]),
+        .l_i     (len2_q[j]),
+        .d_i     (d2_q[j]),
+        .valid_o (vol_valid[j]),
+        .fs_o    (vol_fs[j*3*W +: 3*W]),
+        .fe_o    (vol_fe[j*3*W +: 3*W]),
+        .sat_o   (vol_sat[j]));
+    end else begin : g_no_vol
+      assign vol_valid[j] = 1'b0;
+      assign vol_fs[j*3*W +: 3*W] = '0;
+      assign vol_fe[j*3*W +: 3*W] = '0;
+      assign vol_sat[j] = 1'b0;
+      logic unused_vol;
+      assign unused_vol = vv2_q[j] ^ vsec2_q[j];
+    end
+    // A slot's result: the TEM's force (+F to the start, -F to the end) or the element's
+    // two forces. The two never share a clock (each slot feeds one of them).
+    assign res_valid[j] = tem_valid[j] || vol_valid[j];
+    assign res_f[j*3*W +: 3*W] = vol_valid[j] ? vol_fs[j*3*W +: 3*W] : tem_f[j*3*W +: 3*W];
+    assign res_fe[j*3*W +: 3*W] = vol_fe[j*3*W +: 3*W];
 
     // ---- particle bank j ----
     rheo_core_mem_bank #(.W(W), .CoefW(CoefW), .PDepth(PDepth)) u_bank (
@@ -357,7 +418,8 @@ module rheo_core #(
     .valid1_i(valid1), .e_bank1_i(e_bank1), .e_local1_i(e_local1),
     .xbar_addr_o(xbar_addr), .conflict_o(schedule_conflict),
     .xp_b_i(xp_b_data), .eb2_i(eb2_q), .end_xp_o(end_xp2),
-    .tem_valid_i(tem_valid), .tem_f_i(tem_f), .tem_s_local_i(tem_s_local),
+    .tem_valid_i(res_valid), .tem_f_i(res_f), .tem_elem_i(vol_valid), .tem_fe_i(res_fe),
+    .tem_s_local_i(tem_s_local),
     .tem_e_bank_i(tem_e_bank), .tem_e_local_i(tem_e_local),
     .acc_s_valid_o(acc_s_valid), .acc_s_addr_o(acc_s_addr), .acc_s_val_o(acc_s_val),
     .acc_e_valid_o(acc_e_valid), .acc_e_addr_o(acc_e_addr), .acc_e_val_o(acc_e_val));
@@ -374,8 +436,10 @@ module rheo_core #(
   // Status flags the lanes raise this clock (the controller makes them sticky).
   always_comb begin
     lane_flags = '0;
-    if (schedule_conflict) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusScheduleConflict);
+    if (schedule_conflict || (|elem_conflict))
+      lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusScheduleConflict);
     for (int j = 0; j < Lanes; j++) begin
+      if (vol_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusVolumeSat);
       if (tem_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusTemSat);
       if (tem_deg[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusDegenerate);
       if (mpm_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
@@ -416,8 +480,11 @@ module rheo_core #(
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       ev1_q <= 1'b0;
+      pend_q <= '0;
       for (int j = 0; j < Lanes; j++) begin
         ev2_q[j] <= 1'b0;
+        vv2_q[j] <= 1'b0;
+        vsec2_q[j] <= 1'b0;
         mv1_q[j] <= 1'b0;
         mreq2_q[j] <= 1'b0;
         mreq3_q[j] <= 1'b0;
@@ -425,8 +492,11 @@ module rheo_core #(
       end
     end else begin
       ev1_q <= edge_issue;
+      pend_q <= valid1 & elem1 & ~second1;
       for (int j = 0; j < Lanes; j++) begin
-        ev2_q[j] <= valid1[j];
+        ev2_q[j] <= valid1[j] && !elem1[j];
+        vv2_q[j] <= vol_take1[j];
+        vsec2_q[j] <= second1[j];
         mv1_q[j] <= mpm_issue[j];
         mreq2_q[j] <= mv1_q[j];
         mreq3_q[j] <= mreq2_q[j];

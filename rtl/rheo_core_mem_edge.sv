@@ -1,5 +1,5 @@
-// Edge slot memories of one lane of rheo_core: per slot the packed record (valid, end bank,
-// end and start local addresses), the rest length L, the Voigt length d, the material
+// Edge slot memories of one lane of rheo_core: per slot the packed record (valid, the
+// volume element's two bits, end bank, end and start local addresses), the rest length L, the Voigt length d, the material
 // index and, with MaxwellArms = K, the arms' extensions m_j. A module of its own so that each
 // memory's two ports (and so its RAMB16 / LUT RAM mapping) can be read in one place.
 //
@@ -17,8 +17,8 @@ module rheo_core_mem_edge #(
   localparam int MIdxW = $clog2(MaxMaterials),
   localparam int RegionW = rheo_consts_pkg::HeaderRegionBits,
   localparam int FieldW = rheo_consts_pkg::EntryFieldW,
-  // Record: {valid, end bank, end local address, start local address}.
-  localparam int RecW = 1 + EBW + 2 * PAW,
+  // Record: {valid, element, second half, end bank, end local address, start local address}.
+  localparam int RecW = 3 + EBW + 2 * PAW,
   localparam int ArmW = ((MaxwellArms > 0) ? MaxwellArms : 1) * W  // m words, arm j at [j*W +: W]
 ) (
   input  logic               clk_i,
@@ -55,6 +55,8 @@ module rheo_core_mem_edge #(
   // Edge word 0 as the host packs it (hls/frame_format.hpp), cut to this core's widths.
   logic [RecW-1:0] rec_wdata;
   assign rec_wdata = {wdata_i[rheo_consts_pkg::EdgeValidBit],
+                      wdata_i[rheo_consts_pkg::EdgeElementBit],
+                      wdata_i[rheo_consts_pkg::EdgeSecondBit],
                       wdata_i[rheo_consts_pkg::EdgeEndBankShift +: EBW],
                       wdata_i[rheo_consts_pkg::EdgeEndLocalShift +: PAW],
                       wdata_i[PAW-1:0]};

@@ -8,7 +8,7 @@
 //            schedule conflict.
 //   stage 2: lane j's end particle is bank eb2_i[j]'s port B word.
 //   results: +F goes to the start sum of the lane's own bank, -F to the end sum of the
-//            end's bank.
+//            end's bank (a volume element's result: its own force for each).
 // Flat vectors (lane j at [j*n +: n]): Yosys 0.23 mis-connects instance ports to elements
 // of two-dimensional unpacked arrays.
 module rheo_core_xbar #(
@@ -32,7 +32,9 @@ module rheo_core_xbar #(
   output logic [Lanes*XpW-1:0]    end_xp_o,        // per lane
   // TEM results.
   input  logic [Lanes-1:0]        tem_valid_i,
-  input  logic [Lanes*3*W-1:0]    tem_f_i,
+  input  logic [Lanes*3*W-1:0]    tem_f_i,         // added to the start's sum
+  input  logic [Lanes-1:0]        tem_elem_i,      // a volume element's result:
+  input  logic [Lanes*3*W-1:0]    tem_fe_i,        //   tem_fe_i to the end's sum, else -tem_f_i
   input  logic [Lanes*PAW-1:0]    tem_s_local_i,
   input  logic [Lanes*BW-1:0]     tem_e_bank_i,
   input  logic [Lanes*PAW-1:0]    tem_e_local_i,
@@ -87,7 +89,9 @@ module rheo_core_xbar #(
           acc_e_valid_o[b] = 1'b1;
           acc_e_addr_o[b*PAW +: PAW] = tem_e_local_i[j*PAW +: PAW];
           for (int i = 0; i < 3; i++)
-            acc_e_val_o[(b*3+i)*AccW +: AccW] = -(AccW'($signed(tem_f_i[(j*3+i)*W +: W])));
+            acc_e_val_o[(b*3+i)*AccW +: AccW] =
+                tem_elem_i[j] ? AccW'($signed(tem_fe_i[(j*3+i)*W +: W]))
+                              : -(AccW'($signed(tem_f_i[(j*3+i)*W +: W])));
         end
       end
     end

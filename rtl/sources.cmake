@@ -11,6 +11,8 @@ set(RHEO_RTL_TEM_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_rec
 set(RHEO_RTL_MPM_FILES rheo_consts_pkg.sv rheo_mpm.sv)
 # Strain hardening's coefficient unit, verilated alone against the bit-true model.
 set(RHEO_RTL_HARDEN_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_recip.sv rheo_damper_q.sv rheo_harden.sv)
+# Volume preservation's element unit, verilated alone against the bit-true model.
+set(RHEO_RTL_VOLUME_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_volume.sv)
 set(RHEO_RTL_CORE_FILES
   ${RHEO_RTL_TEM_FILES}
   rheo_mpm.sv
@@ -25,10 +27,11 @@ set(RHEO_RTL_CORE_FILES
   rheo_core_xbar.sv
   rheo_core_readback.sv
   rheo_core_plate_acc.sv
+  rheo_volume.sv
   rheo_core.sv
 )
 
-# OUT = the files of list NAME (CORE, TEM, MPM or HARDEN) as absolute paths.
+# OUT = the files of list NAME (CORE, TEM, MPM, HARDEN or VOLUME) as absolute paths.
 function(rheo_rtl_paths OUT NAME)
   list(TRANSFORM RHEO_RTL_${NAME}_FILES PREPEND ${RHEO_RTL_DIR}/ OUTPUT_VARIABLE paths)
   set(${OUT} ${paths} PARENT_SCOPE)

@@ -177,7 +177,10 @@ const hls::EdgeElement* tem_element(const std::string& label) {
 }
 // The whole core built for an edge element: "core" (the baseline), "core_damper",
 // "core_arms8", ... (the suffix of its TEM design).
-std::string core_label(const hls::EdgeElement& e) { return "core" + tem_label(e).substr(3); }
+// A core with volume elements adds "_volume" (its TEM is the edge element's without them).
+std::string core_label(const hls::EdgeElement& e) {
+  return "core" + tem_label(e).substr(3) + (e.volume_preservation ? "_volume" : "");
+}
 const hls::EdgeElement* core_element(const std::string& label) {
   for (const hls::EdgeElement& e : hls::kEdgeElements) {
     if (core_label(e) == label) return &e;
@@ -186,7 +189,8 @@ const hls::EdgeElement* core_element(const std::string& label) {
 }
 std::string design_names() {
   std::string names;
-  for (const hls::EdgeElement& e : hls::kEdgeElements) names += tem_label(e) + ", ";
+  for (const hls::EdgeElement& e : hls::kEdgeElements)
+    if (!e.volume_preservation) names += tem_label(e) + ", ";
   names += "mpm";
   for (const hls::EdgeElement& e : hls::kEdgeElements) names += ", " + core_label(e);
   return names;
@@ -202,6 +206,7 @@ json feature_costs(const std::map<std::string, synth::SynthResult>& results) {
     if (base == results.end()) continue;
     const Resources& b = base->second.resources;
     for (const hls::EdgeElement& e : hls::kEdgeElements) {
+      if (std::string(kind) == "tem" && e.volume_preservation) continue;  // another's TEM
       const std::string label = std::string(kind) == "tem" ? tem_label(e) : core_label(e);
       const auto it = results.find(label);
       if (label == kind || it == results.end()) continue;
@@ -257,7 +262,8 @@ void run(const Options& opt) {
       spec.top = "rheo_tem";
       spec.sources = synth::rtl_sources::kTemFiles;
       for (const hls::RtlParameter& p : element->rtl_parameters())
-        spec.params.push_back(std::string(p.name) + "=" + std::to_string(p.value));
+        if (p.name != "VolumePreservation")  // a core's parameter, not the TEM's
+          spec.params.push_back(std::string(p.name) + "=" + std::to_string(p.value));
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
       spec.sources = synth::rtl_sources::kMpmFiles;

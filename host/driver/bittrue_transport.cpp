@@ -9,15 +9,7 @@ namespace {
 
 using Fmt = hls::HardwareFormat;
 
-hls::Coef unpack_coef(std::uint32_t w) {
-  hls::Coef c;
-  const std::int32_t mant = static_cast<std::int32_t>(w << (32 - hls::kCoefMantBits));
-  c.mant = mant >> (32 - hls::kCoefMantBits);  // sign-extend the 18-bit mantissa
-  c.shift =
-      static_cast<std::int32_t>((w >> frame::kCoefShiftPos) & ((1u << hls::kCoefShiftBits) - 1)) -
-      hls::kCoefShiftBias;
-  return c;
-}
+using hls::unpack_coef;
 
 std::int64_t sword(std::uint32_t w) { return static_cast<std::int32_t>(w); }
 
@@ -101,6 +93,8 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
       if (field == 0) {
         constexpr std::uint32_t kLocalMask = (1u << frame::kEdgeLocalBits) - 1;
         e.valid = w & frame::kEdgeValid;
+        e.element = w & frame::kEdgeElement;
+        e.second = w & frame::kEdgeSecond;
         e.s_local = w & kLocalMask;
         e.e_local = (w >> frame::kEdgeEndLocalShift) & kLocalMask;
         e.e_bank = (w >> frame::kEdgeEndBankShift) & ((1u << frame::kEdgeBankBits) - 1);

@@ -1,5 +1,6 @@
 #include "host/driver/core_image.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -35,7 +36,93 @@ std::int64_t round_to_word(double scaled, int width, const std::string& what) {
   return static_cast<std::int64_t>(std::llround(scaled));
 }
 
+std::uint32_t pack_coef(const hls::Coef& c) {
+  return (std::uint32_t(c.shift + hls::kCoefShiftBias) << frame::kCoefShiftPos) |
+         (std::uint32_t(c.mant) & ((1u << hls::kCoefMantBits) - 1));
+}
+
+// An element's vertices as (a, b, c, d) with a and c in one bank at every lane count the
+// element can run at: a pair equal mod 4 if there is one, else a pair equal mod 2 (four
+// vertices always have one); b and d the others in the model's order. One order for every
+// lane count keeps the forces' rounding, and so every word, independent of the lanes.
+std::array<int, 4> element_order(const std::array<int, 4>& v) {
+  for (int mod : {4, 2}) {
+    for (int p = 0; p < 4; ++p) {
+      for (int q = p + 1; q < 4; ++q) {
+        if (v[p] % mod != v[q] % mod) continue;
+        int rest[2], n = 0;
+        for (int t = 0; t < 4; ++t)
+          if (t != p && t != q) rest[n++] = v[t];
+        return {v[p], rest[0], v[q], rest[1]};
+      }
+    }
+  }
+  return v;  // unreachable: two of four integers share a parity
+}
+
 }  // namespace
+
+ElementSchedule schedule_elements(const std::vector<std::array<int, 4>>& elements, int lanes) {
+  if (lanes < 1 || lanes > hls::kMaxLanes) {
+    throw Error("schedule_elements: lanes = " + std::to_string(lanes) + ": expected 1.." +
+                std::to_string(hls::kMaxLanes));
+  }
+  const int n = static_cast<int>(elements.size());
+  ElementSchedule sch;
+  sch.slot.assign(n, -1);
+  sch.vertex.resize(n);
+  // Per lane, its elements (a's bank), in model order.
+  std::vector<std::vector<int>> queue(lanes);
+  for (int k = 0; k < n; ++k) {
+    const std::array<int, 4> v = element_order(elements[k]);
+    if (v[0] % lanes != v[2] % lanes) {
+      throw Error("volume element " + std::to_string(k) + " has no two vertices in one bank at " +
+                  std::to_string(lanes) + " lanes (vertex indices " + std::to_string(v[0]) +
+                  ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) + ", " +
+                  std::to_string(v[3]) + "): the core reads two of them from the lane's own "
+                  "bank; run it with 1 or 2 lanes");
+    }
+    sch.vertex[k] = v;
+    queue[v[0] % lanes].push_back(k);
+  }
+  // Pairs of rows: every lane takes the first element of its queue (within a bounded
+  // look-ahead, which keeps this linear) whose ends b and d avoid the banks the lanes
+  // before it use in those rows; the lanes with the most elements left choose first, since
+  // the busiest lane sets the rows. The first lane with elements left always fits one, so
+  // every pair of rows places at least one element.
+  constexpr std::size_t kLookAhead = 256;
+  std::vector<char> done(n, 0);
+  std::vector<std::size_t> head(lanes, 0);
+  std::vector<int> remaining(lanes, 0), order(lanes);
+  for (int j = 0; j < lanes; ++j) remaining[j] = static_cast<int>(queue[j].size());
+  int left = n, pair = 0;
+  while (left > 0) {
+    unsigned used_b = 0, used_d = 0;
+    for (int j = 0; j < lanes; ++j) order[j] = j;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int p, int q) { return remaining[p] > remaining[q]; });
+    for (int j : order) {
+      const std::vector<int>& list = queue[j];
+      while (head[j] < list.size() && done[list[head[j]]]) ++head[j];
+      for (std::size_t t = head[j]; t < list.size() && t < head[j] + kLookAhead; ++t) {
+        const int k = list[t];
+        const unsigned bank_b = 1u << (sch.vertex[k][1] % lanes);
+        const unsigned bank_d = 1u << (sch.vertex[k][3] % lanes);
+        if (done[k] || (used_b & bank_b) || (used_d & bank_d)) continue;
+        done[k] = 1;
+        --left;
+        --remaining[j];
+        sch.slot[k] = 2 * pair * lanes + j;
+        used_b |= bank_b;
+        used_d |= bank_d;
+        break;
+      }
+    }
+    ++pair;
+  }
+  sch.rows = 2 * pair;
+  return sch;
+}
 
 long cycles_per_step_formula(int edge_rows, int num_particles, int lanes,
                              const hls::EdgeElement& element) {
@@ -296,12 +383,15 @@ const hls::EdgeElement& edge_element_for(const Model& model) {
     damper = damper || m.nonlinear;
     hardening = hardening || m.hardening != 0.0;
   }
-  if (const hls::EdgeElement* e = hls::edge_element_with(arms, damper, hardening)) return *e;
-  // More arms than any core carries: the core with the most arms (and the damper and
-  // hardening when the model has them); hardware_model drops the arms beyond it.
+  const bool volume = model.volume.enabled && model.dim == 3;
+  if (const hls::EdgeElement* e = hls::edge_element_with(arms, damper, hardening, volume))
+    return *e;
+  // More arms than any core carries: the core with the most arms (and the damper,
+  // hardening and volume elements when the model has them); hardware_model drops the arms
+  // beyond it.
   const hls::EdgeElement* e =
-      hls::edge_element_with(std::min(arms, hls::kMaxArms), damper, hardening);
-  return e ? *e : hls::kThreeElementEveryEffect;
+      hls::edge_element_with(std::min(arms, hls::kMaxArms), damper, hardening, volume);
+  return e ? *e : hls::kEveryFeature;
 }
 
 Model hardware_model(const Model& model, std::vector<std::string>* dropped,
@@ -341,9 +431,16 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped,
     }
   }
   if (hw.topology.enabled) notes.push_back("topology-maintenance forces");
-  if (hw.volume.enabled) notes.push_back("volume-preserving forces");
   hw.topology.enabled = false;
-  hw.volume.enabled = false;
+  if (hw.volume.enabled && hw.dim != 3) {
+    notes.push_back("area-preserving forces (the core computes volume elements, tetrahedra, "
+                    "only)");
+    hw.volume.enabled = false;
+  } else if (hw.volume.enabled && !element.volume_preservation) {
+    notes.push_back("volume-preserving forces (the " + std::string(element.name) +
+                    " core has no volume elements)");
+    hw.volume.enabled = false;
+  }
   if (dropped) *dropped = notes;
   return hw;
 }
@@ -361,6 +458,55 @@ double from_p_word(std::int64_t word, const CoreImage& image) {
 double from_f_word(std::int64_t word, const CoreImage& image) {
   return std::ldexp(double(word), -image.format.frac_f) * image.units.force_N;
 }
+
+namespace {
+
+// The volume elements' slots (hls::EdgeEntry), after the edges' `edge_rows` rows: V6_0 of
+// the rest positions in the schedule's vertex order (the reference's rest volume, signed
+// by that order) and c = kv Lu^2 / (36 Fu |V0|) (hls::volume_element).
+void encode_elements(const Model& model, const ElementSchedule& esch, int edge_rows, double Lu,
+                     double Fu, CoreImage& img) {
+  const int lanes = img.lanes;
+  for (std::size_t k = 0; k < esch.vertex.size(); ++k) {
+    const std::array<int, 4>& v = esch.vertex[k];
+    const std::string where = "tetrahedron " + std::to_string(k);
+    const Vec3 a = model.x0[v[0]] / Lu;
+    const Vec3 ab = model.x0[v[1]] / Lu - a, ac = model.x0[v[2]] / Lu - a,
+               ad = model.x0[v[3]] / Lu - a;
+    const double v6 = ab.dot(ac.cross(ad));
+    const double v6_word = std::ldexp(v6, img.format.frac_v);
+    if (!(std::fabs(v6) > 0.0)) {
+      throw Error(where + " has zero rest volume: expected a non-degenerate element");
+    }
+    if (!(std::fabs(v6_word) < std::ldexp(1.0, 62))) {
+      throw Error(where + ": rest volume " + str(v6 / 6.0 * Lu * Lu * Lu) +
+                  " m^3 is too large for the core's 64-bit volume word");
+    }
+    const std::int64_t v0 = std::llround(v6_word);
+    const hls::Coef c = encode_coef(model.volume.kv * Lu * Lu / (6.0 * Fu * std::fabs(v6)),
+                                    where + ": kv Lu^2 / (36 Fu |V0|)",
+                                    hls::CoefShifts<hls::HardwareFormat>::kVolume);
+    const int slot = (edge_rows + esch.slot[k] / lanes) * lanes + esch.slot[k] % lanes;
+    for (int half = 0; half < 2; ++half) {
+      hls::EdgeEntry& ee = img.edges[std::size_t(slot) + std::size_t(half) * lanes];
+      const int s = v[2 * half], e = v[2 * half + 1];
+      ee.valid = true;
+      ee.element = true;
+      ee.second = half == 1;
+      ee.s_local = s / lanes;
+      ee.e_bank = e % lanes;
+      ee.e_local = e / lanes;
+      ee.material = 0;
+      // The words as the core holds them: V6_0's low 32 bits in L, the rest in d.
+      ee.L = half == 0 ? std::int64_t(std::int32_t(std::uint32_t(std::uint64_t(v0))))
+                       : std::int64_t(pack_coef(c));
+      ee.d = half == 0 ? (v0 >> 32) : 0;
+    }
+  }
+  img.num_elements = static_cast<int>(esch.vertex.size());
+}
+
+}  // namespace
 
 CoreImage make_core_image(const Model& model_in, const State& state, double dt, int lanes,
                           const FormatDesc& format, const hls::EdgeElement& element) {
@@ -527,21 +673,39 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
                   " m; the hardware computes strain hardening's strain from L");
     }
   }
+  // Volume elements (hardware_model kept them only for a core that computes them).
+  std::vector<std::array<int, 4>> elements;
+  if (model.volume.enabled) {
+    elements = model.tetrahedra;
+    for (std::size_t k = 0; k < elements.size(); ++k) {
+      for (int v : elements[k]) {
+        if (v < 0 || v >= np) {
+          throw Error("tetrahedron " + std::to_string(k) + ": particle index out of range");
+        }
+        ++degree[v];
+      }
+    }
+  }
   for (int i = 0; i < np; ++i) {
     if (degree[i] > kMaxDegree) {
       throw Error("particle " + std::to_string(i) + " has " + std::to_string(degree[i]) +
-                  " edges: the force accumulator allows at most " + std::to_string(kMaxDegree));
+                  " edges and volume elements: the force accumulator allows at most " +
+                  std::to_string(kMaxDegree));
     }
   }
   const EdgeSchedule sch = schedule_edges(ends, lanes);
-  if (static_cast<long>(sch.rows) * lanes > hls::kMaxEdges) {
-    throw Error("edge schedule of " + std::to_string(sch.rows) + " rows x " +
+  const ElementSchedule esch = schedule_elements(elements, lanes);
+  const long rows = long(sch.rows) + esch.rows;
+  if (rows * lanes > hls::kMaxEdges) {
+    throw Error("edge schedule of " + std::to_string(rows) + " rows (" +
+                std::to_string(esch.rows) + " of them volume elements') x " +
                 std::to_string(lanes) + " lanes exceeds the core's " +
                 std::to_string(hls::kMaxEdges) + " edge slots");
   }
-  img.edge_rows = sch.rows;
-  img.edges.assign(std::size_t(sch.rows) * lanes, hls::EdgeEntry{});
+  img.edge_rows = static_cast<int>(rows);
+  img.edges.assign(std::size_t(rows) * lanes, hls::EdgeEntry{});
   img.edge_slot = sch.slot;
+  encode_elements(model, esch, sch.rows, Lu, Fu, img);
   for (int k = 0; k < ne; ++k) {
     const Edge& e = model.edges[k];
     const std::string where = "edge " + std::to_string(k);
@@ -566,11 +730,6 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
 }
 
 namespace {
-
-std::uint32_t pack_coef(const hls::Coef& c) {
-  return (std::uint32_t(c.shift + hls::kCoefShiftBias) << frame::kCoefShiftPos) |
-         (std::uint32_t(c.mant) & ((1u << hls::kCoefMantBits) - 1));
-}
 
 void write_command(std::vector<std::uint32_t>& out, frame::Region region, std::uint32_t start,
                    const std::vector<std::uint32_t>& words) {
@@ -618,7 +777,9 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
   w.clear();
   for (const auto& e : img.edges) {
     w.push_back(e.valid ? (e.s_local | (e.e_local << frame::kEdgeEndLocalShift) |
-                           (e.e_bank << frame::kEdgeEndBankShift) | frame::kEdgeValid)
+                           (e.e_bank << frame::kEdgeEndBankShift) | frame::kEdgeValid |
+                           (e.element ? frame::kEdgeElement : 0u) |
+                           (e.second ? frame::kEdgeSecond : 0u))
                         : 0u);
     w.push_back(std::uint32_t(e.L));
     w.push_back(std::uint32_t(e.d));

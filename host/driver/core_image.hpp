@@ -5,6 +5,7 @@
 // limit when a value does not fit.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -19,9 +20,10 @@ namespace rheo::driver {
 // Fractional bits of one state-word format (runtime copy of rheo::hls::Format).
 struct FormatDesc {
   int width = 32, frac_x = 27, frac_p = 31, frac_f = 20;
+  int frac_v = 46;  // six-fold element volumes (volume preservation)
   template <class Fmt>
   static FormatDesc of() {
-    return {Fmt::kWidth, Fmt::kFracX, Fmt::kFracP, Fmt::kFracF};
+    return {Fmt::kWidth, Fmt::kFracX, Fmt::kFracP, Fmt::kFracF, Fmt::kFracV};
   }
 };
 
@@ -40,7 +42,8 @@ struct CoreImage {
   int lanes = 1;
   int num_particles = 0;
   int num_edges = 0;                        // edges of the model
-  int edge_rows = 0;                        // R: rows of the edge schedule
+  int num_elements = 0;                     // volume elements (tetrahedra) in the edge pass
+  int edge_rows = 0;                        // R: rows of the edge schedule (elements' too)
   std::vector<hls::MpmParticle> particles;  // by particle index
   std::vector<hls::EdgeEntry> edges;        // edge_rows * lanes slots, row-major
   std::vector<int> edge_slot;               // per model edge: its slot in `edges`
@@ -71,6 +74,19 @@ struct EdgeSchedule {
   std::vector<int> slot;      // per edge: row * lanes + lane
 };
 EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int lanes);
+
+// Volume elements in the edge pass (hls::EdgeEntry): each tetrahedron takes two consecutive
+// rows of one lane; its vertices are ordered (a, b, c, d) so that the two starts a and c
+// lie in one bank (the lane's) for every lane count, and the ends b of the first row, and
+// d of the second, lie in pairwise different banks across the lanes. Rows start at 0 (the
+// caller appends them after the edges' rows). Throws rheo::Error when a tetrahedron has
+// no two vertices in one bank (possible only at 4 lanes).
+struct ElementSchedule {
+  int rows = 0;
+  std::vector<int> slot;                   // per element: its first half's row * lanes + lane
+  std::vector<std::array<int, 4>> vertex;  // per element: a, b, c, d (a permutation)
+};
+ElementSchedule schedule_elements(const std::vector<std::array<int, 4>>& elements, int lanes);
 
 // Builds the image of `model` in `state` for time step dt. Throws rheo::Error on values
 // out of range (positions beyond the X range, coefficients beyond the 18-bit mantissa,

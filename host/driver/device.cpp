@@ -14,6 +14,7 @@ std::string describe_status_flags(std::uint32_t flags) {
       {hls::kStatusPlateSaturated, "plate force saturated"},
       {hls::kStatusBadCommand, "bad command"},
       {hls::kStatusScheduleConflict, "edge schedule conflict"},
+      {hls::kStatusVolumeSaturated, "volume element force saturated"},
   };
   std::string out;
   for (const auto& [bit, name] : kNames) {

@@ -13,6 +13,9 @@
 #include "Vrheo_core_damper_l1.h"
 #include "Vrheo_core_hardening_l1.h"
 #include "Vrheo_core_every_l1.h"
+#include "Vrheo_core_every_feature_l1.h"
+#include "Vrheo_core_volume_l1.h"
+#include "Vrheo_core_volume_l2.h"
 #include "Vrheo_core_l1.h"
 #include "Vrheo_core_l2.h"
 #include "Vrheo_core_l4.h"
@@ -193,9 +196,12 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
     if (o.lanes != 1 || o.element != hls::kThreeElement)
       throw Error("RTL core with random power-up state: built for 1 lane without the arm");
     impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
+  } else if (o.element == hls::kThreeElementWithVolume && o.lanes == 2) {
+    // The volume core also at two lanes: its element schedule across lanes.
+    impl_ = std::make_unique<Harness<Vrheo_core_volume_l2>>(o);
   } else if (o.element != hls::kThreeElement) {
-    // The cores with arms, the damper or hardening are built for one lane
-    // (rtl/CMakeLists.txt).
+    // The cores with arms, the damper, hardening or volume elements are built for one
+    // lane (rtl/CMakeLists.txt; the volume core for two as well).
     if (o.lanes != 1)
       throw Error("RTL core with edge element " + std::string(o.element.name) +
                   ": lanes = " + std::to_string(o.lanes) + ": built for 1 lane only");
@@ -213,6 +219,10 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
       impl_ = std::make_unique<Harness<Vrheo_core_hardening_l1>>(o);
     else if (o.element == hls::kThreeElementEveryEffect)
       impl_ = std::make_unique<Harness<Vrheo_core_every_l1>>(o);
+    else if (o.element == hls::kThreeElementWithVolume)
+      impl_ = std::make_unique<Harness<Vrheo_core_volume_l1>>(o);
+    else if (o.element == hls::kEveryFeature)
+      impl_ = std::make_unique<Harness<Vrheo_core_every_feature_l1>>(o);
     else
       throw Error("RTL core with edge element " + std::string(o.element.name) + ": not built");
   } else if (o.lanes == 1)

@@ -231,10 +231,16 @@ TEST(Backend, AFourArmSpectrumRunsOnTheFourArmCoreAndItsStateComesBack) {
 // what its word allows; the wider formats are not worse than the hardware's (a width
 // assumption in the damper's or hardening's arithmetic, such as a product cast to 64 bits or
 // a coefficient scaled for the hardware's X LSB, shows here as a wide format gone wrong).
-TEST(Backend, EveryEdgeEffectRunsInEveryFixedPointFormat) {
+// With volume forces as well (data/scenarios/block5_every_feature.json): every feature the
+// core computes.
+void expect_every_fixed_point_format_tracks_the_reference(bool volume) {
   // block5's material (continuum values) with every effect, as the shipped scenario
   // data/scenarios/block5_every_edge_effect.json has them
   Scenario scenario = load_scenario("block5");
+  if (volume) {
+    scenario.block.volume.enabled = true;
+    scenario.block.volume.kv = 2e4;
+  }
   EdgeMaterial& m = scenario.block.material;
   m.nonlinear = true;
   m.f1 = 200.0;    // Pa
@@ -264,10 +270,18 @@ TEST(Backend, EveryEdgeEffectRunsInEveryFixedPointFormat) {
   }
 }
 
+TEST(Backend, EveryEdgeEffectRunsInEveryFixedPointFormat) {
+  expect_every_fixed_point_format_tracks_the_reference(false);
+}
+
+TEST(Backend, EveryFeatureRunsInEveryFixedPointFormat) {
+  expect_every_fixed_point_format_tracks_the_reference(true);
+}
+
 TEST(Backend, FeaturesACoreDoesNotComputeAreListed) {
   Model model = block5_model();
-  // hardening with the nonlinear damper runs on the every-effect core; the volume forces do
-  // not run on any core yet
+  // hardening with the nonlinear damper and volume forces run on the every-feature core;
+  // topology maintenance does not run on any core
   model.materials[0].hardening = 10.0;
   model.materials[0].nonlinear = true;
   model.materials[0].f1 = 200.0;
@@ -275,6 +289,8 @@ TEST(Backend, FeaturesACoreDoesNotComputeAreListed) {
   model.materials[0].c2_min = model.materials[0].c2 / 10.0;
   model.volume.enabled = true;
   model.volume.kv = 1e3;
+  model.topology.enabled = true;
+  model.topology.k = 1e3;
   for (const std::string& spec : {std::string("float"), std::string("bittrue")}) {
     const std::unique_ptr<Backend> b = make_backend(spec);
     b->load(model, initial_state(model), load_scenario("block5").options.dt);
@@ -285,7 +301,8 @@ TEST(Backend, FeaturesACoreDoesNotComputeAreListed) {
     };
     EXPECT_FALSE(mentions("strain hardening")) << spec;
     EXPECT_FALSE(mentions("damper")) << spec;
-    EXPECT_TRUE(mentions("volume")) << spec;
+    EXPECT_FALSE(mentions("volume")) << spec;
+    EXPECT_TRUE(mentions("topology")) << spec;
   }
   const std::unique_ptr<Backend> ref = make_backend("ref");
   ref->load(model, initial_state(model), load_scenario("block5").options.dt);

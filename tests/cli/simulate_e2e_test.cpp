@@ -212,9 +212,9 @@ TEST_F(SimulateTest, EveryBackendWritesTheSameRowsWithinItsArithmeticError) {
   }
 }
 
-// A scenario with features a backend does not compute (topology maintenance, volume forces
-// on the core) is refused there, naming them, and writes nothing; --allow-dropped runs it
-// and says what was left out.
+// A scenario with a feature a backend does not compute (topology maintenance on the core)
+// is refused there, naming it, and writes nothing; --allow-dropped runs it and says what was
+// left out. The volume forces run on the core (its volume elements).
 TEST_F(SimulateTest, FeaturesABackendLeavesOutAreRefusedUnlessAllowed) {
   nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
   j["topology_maintenance"] = {{"eps", 0.2}, {"k_n_m", 100.0}, {"c_ns_m", 0.1}};
@@ -225,7 +225,7 @@ TEST_F(SimulateTest, FeaturesABackendLeavesOutAreRefusedUnlessAllowed) {
   RunResult r = run_rheo(base + "--backend bittrue --out " + out());
   EXPECT_NE(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("topology-maintenance forces"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("volume-preserving forces"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("volume-preserving forces"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--allow-dropped"), std::string::npos) << r.output;
   expect_no_output();
   r = run_rheo(base + "--backend bittrue --allow-dropped --out " + out());

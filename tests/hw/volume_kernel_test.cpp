@@ -1,0 +1,350 @@
+// The bit-true volume element (hls::volume_element) and the element pass of hls::core_step:
+// forces against the double formula on random tetrahedra, no force at rest, saturation,
+// the host's element schedule (two rows of one lane per element, ends in distinct banks,
+// one vertex order for every lane count), schedule conflicts, and a block with volume
+// preservation against the double reference and across lane counts.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "hls/edge_element.hpp"
+#include "host/driver/bittrue_transport.hpp"
+#include "host/driver/core_image.hpp"
+#include "host/driver/device.hpp"
+#include "sim/error.hpp"
+#include "sim/scenario.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo::driver {
+namespace {
+
+using Fmt = hls::HardwareFormat;
+
+std::int64_t xw(double lu) { return std::llround(std::ldexp(lu, Fmt::kFracX)); }
+double fw(std::int64_t w) { return std::ldexp(double(w), -Fmt::kFracF); }
+std::string sci(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// A tetrahedron in length units: the element's words, the rest volume and c as the host
+// encodes them (make_core_image), with kv Lu^2 / Fu = kv_folded.
+struct Tet {
+  Eigen::Vector3d p[4];
+};
+
+hls::VolumeIn volume_in(const Tet& now, const Tet& rest, double kv_folded) {
+  hls::VolumeIn in;
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i) in.x[k][i] = xw(now.p[k][i]);
+  const double v6 = (rest.p[1] - rest.p[0]).dot((rest.p[2] - rest.p[0]).cross(rest.p[3] - rest.p[0]));
+  in.v0 = std::llround(std::ldexp(v6, Fmt::kFracV));
+  in.c = encode_coef(kv_folded / (6.0 * std::fabs(v6)), "c",
+                     hls::CoefShifts<Fmt>::kVolume);
+  return in;
+}
+
+// The reference's forces (Simulator::add_volume_forces) in the same units.
+void reference_forces(const Tet& now, const Tet& rest, double kv_folded, Eigen::Vector3d f[4]) {
+  auto measure = [](const Tet& t, Eigen::Vector3d* grad) {
+    const Eigen::Vector3d ab = t.p[1] - t.p[0], ac = t.p[2] - t.p[0], ad = t.p[3] - t.p[0];
+    if (grad) {
+      grad[1] = ac.cross(ad) / 6.0;
+      grad[2] = ad.cross(ab) / 6.0;
+      grad[3] = ab.cross(ac) / 6.0;
+      grad[0] = -(grad[1] + grad[2] + grad[3]);
+    }
+    return ab.dot(ac.cross(ad)) / 6.0;
+  };
+  Eigen::Vector3d grad[4];
+  const double v = measure(now, grad), v0 = measure(rest, nullptr);
+  const double p = -kv_folded * (v - v0) / std::fabs(v0);
+  for (int k = 0; k < 4; ++k) f[k] = p * grad[k];
+}
+
+Tet random_tet(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), size(0.05, 3.0), pos(-10.0, 10.0);
+  Tet t;
+  const double s = size(rng);
+  const Eigen::Vector3d c(pos(rng), pos(rng), pos(rng));
+  // A regular-ish element, jittered, so that it is never nearly flat.
+  const Eigen::Vector3d base[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const Eigen::Matrix3d rot =
+      Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized())
+          .toRotationMatrix();
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d jitter(0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng));
+    t.p[k] = c + s * (rot * (base[k] + jitter));
+  }
+  if (u(rng) < 0.0) std::swap(t.p[1], t.p[2]);  // both orientations
+  return t;
+}
+
+// A deformation of a few per cent: a random affine map near the identity.
+Tet deformed(const Tet& t, std::mt19937_64& rng, double amount) {
+  std::uniform_real_distribution<double> u(-amount, amount);
+  Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) a(r, c) += u(rng);
+  Tet out;
+  for (int k = 0; k < 4; ++k) out.p[k] = t.p[0] + a * (t.p[k] - t.p[0]);
+  return out;
+}
+
+// The forces are within 4e-5 of the element's largest force plus two force LSB of the
+// double formula: D, P, the gradients and c are each rounded to 18 bits (2^-17 each);
+// V6 has 46 fractional bits and its products 35-bit operands, far below that.
+TEST(VolumeKernel, ForcesFollowTheDoubleFormulaOnRandomTetrahedra) {
+  std::mt19937_64 rng(71);
+  std::uniform_real_distribution<double> log_kv(-3.0, 1.0);
+  double worst = 0.0;
+  for (int n = 0; n < 20000; ++n) {
+    const Tet rest = random_tet(rng);
+    const Tet now = deformed(rest, rng, 0.05);
+    const double kv = std::pow(10.0, log_kv(rng));
+    std::uint32_t status = 0;
+    const hls::VolumeOut out = hls::volume_element<Fmt>(volume_in(now, rest, kv), &status);
+    ASSERT_EQ(status, 0u);
+    Eigen::Vector3d ref[4];
+    reference_forces(now, rest, kv, ref);
+    double fmax = 0.0, err = 0.0;
+    for (int k = 0; k < 4; ++k) fmax = std::max(fmax, ref[k].cwiseAbs().maxCoeff());
+    for (int k = 0; k < 4; ++k)
+      for (int i = 0; i < 3; ++i) err = std::max(err, std::fabs(fw(out.f[k][i]) - ref[k][i]));
+    const double lsb = std::ldexp(1.0, -Fmt::kFracF);
+    ASSERT_LE(err, 4e-5 * fmax + 2 * lsb) << "element " << n;
+    if (fmax > 1e5 * lsb) worst = std::max(worst, err / fmax);
+  }
+  RecordProperty("worst_rel_err", sci(worst));
+  EXPECT_GT(worst, 0.0);
+}
+
+// At rest the element's force is what its positions' rounding (2^-27 Lu) leaves: far below
+// the force of a 1e-5 volume change, which an 18-bit V6 would already miss.
+TEST(VolumeKernel, RestElementHasNoForceBeyondItsPositionsRounding) {
+  std::mt19937_64 rng(73);
+  for (int n = 0; n < 2000; ++n) {
+    const Tet rest = random_tet(rng);
+    std::uint32_t status = 0;
+    const hls::VolumeOut out = hls::volume_element<Fmt>(volume_in(rest, rest, 1.0), &status);
+    Eigen::Vector3d ref[4];
+    reference_forces(deformed(rest, rng, 1e-5), rest, 1.0, ref);
+    double scale = 0.0, fmax = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      scale = std::max(scale, ref[k].cwiseAbs().maxCoeff());
+      for (int i = 0; i < 3; ++i) fmax = std::max(fmax, std::fabs(fw(out.f[k][i])));
+    }
+    // A 1e-5 deformation gives a force near 1e-5 kv |grad|; rest rounding leaves < 1e-6 kv |grad|.
+    EXPECT_LT(fmax, 0.1 * scale + 2 * std::ldexp(1.0, -Fmt::kFracF)) << "element " << n;
+  }
+}
+
+TEST(VolumeKernel, ASaturatedForceRaisesTheFlag) {
+  std::mt19937_64 rng(79);
+  const Tet rest = random_tet(rng);
+  Tet now = rest;
+  now.p[3] = now.p[0] + 0.2 * (now.p[3] - now.p[0]);  // squashed to a fifth
+  hls::VolumeIn in = volume_in(now, rest, 1.0);
+  in.c.shift = -16;  // c 2^16 times larger than any host would encode for this element
+  in.c.mant = (1 << 17) - 1;
+  std::uint32_t status = 0;
+  const hls::VolumeOut out = hls::volume_element<Fmt>(in, &status);
+  EXPECT_TRUE(status & hls::kStatusVolumeSaturated);
+  bool at_limit = false;
+  for (int k = 0; k < 4; ++k)
+    for (int i = 0; i < 3; ++i)
+      at_limit = at_limit || out.f[k][i] == (std::int64_t(1) << 31) - 1 ||
+                 out.f[k][i] == -(std::int64_t(1) << 31);
+  EXPECT_TRUE(at_limit);
+}
+
+// ---- the element schedule ----
+
+std::vector<std::array<int, 4>> block_tetrahedra(int n) {
+  Scenario s = load_scenario("block5");
+  s.block.nx = s.block.ny = s.block.nz = n;
+  s.block.volume.enabled = true;
+  s.block.volume.kv = 1e4;
+  return s.build_model().tetrahedra;
+}
+
+void check_schedule(const std::vector<std::array<int, 4>>& tets, const std::vector<int>& lane_counts) {
+  ASSERT_FALSE(tets.empty());
+  std::vector<std::array<int, 4>> orders;
+  for (int lanes : lane_counts) {
+    const ElementSchedule sch = schedule_elements(tets, lanes);
+    ASSERT_EQ(sch.slot.size(), tets.size());
+    std::vector<unsigned> ends_in_row(std::size_t(sch.rows), 0u);
+    std::vector<int> taken(std::size_t(sch.rows) * lanes, -1);
+    for (std::size_t k = 0; k < tets.size(); ++k) {
+      const std::array<int, 4>& v = sch.vertex[k];
+      std::array<int, 4> sorted_v = v, sorted_t = tets[k];
+      std::sort(sorted_v.begin(), sorted_v.end());
+      std::sort(sorted_t.begin(), sorted_t.end());
+      EXPECT_EQ(sorted_v, sorted_t) << "a permutation of the element's vertices";
+      const int lane = sch.slot[k] % lanes, row = sch.slot[k] / lanes;
+      EXPECT_EQ(row % 2, 0);
+      EXPECT_EQ(v[0] % lanes, lane);
+      EXPECT_EQ(v[2] % lanes, lane);
+      for (int half = 0; half < 2; ++half) {
+        const int slot = (row + half) * lanes + lane;
+        EXPECT_EQ(taken[std::size_t(slot)], -1) << "slot used twice";
+        taken[std::size_t(slot)] = int(k);
+        const unsigned bank = 1u << (v[2 * half + 1] % lanes);
+        EXPECT_EQ(ends_in_row[std::size_t(row + half)] & bank, 0u) << "two ends in one bank";
+        ends_in_row[std::size_t(row + half)] |= bank;
+      }
+    }
+    if (lanes == 1) {
+      EXPECT_EQ(sch.rows, 2 * int(tets.size()));
+      for (std::size_t k = 0; k < tets.size(); ++k) orders.push_back(sch.vertex[k]);
+    } else {
+      for (std::size_t k = 0; k < tets.size(); ++k) EXPECT_EQ(sch.vertex[k], orders[k]);
+      // The lane of an element is its vertex a's bank (one vertex order for every lane
+      // count), so the busiest lane sets the rows; end-bank clashes add to it (block4 at 2
+      // lanes: 216 rows against the busiest lane's 180, its b and d fixed by that order).
+      std::vector<int> per_lane(std::size_t(lanes), 0);
+      for (std::size_t k = 0; k < tets.size(); ++k) ++per_lane[std::size_t(sch.vertex[k][0] % lanes)];
+      const int busiest = *std::max_element(per_lane.begin(), per_lane.end());
+      ::testing::Test::RecordProperty("rows_" + std::to_string(tets.size()) + "_" + std::to_string(lanes),
+                     std::to_string(sch.rows) + " (busiest lane " + std::to_string(busiest) + ")");
+      EXPECT_LE(sch.rows, int(std::ceil(1.25 * 2.0 * busiest)) + 2)
+          << lanes << " lanes";
+    }
+  }
+}
+
+// block4 (4 particles per side) runs at every lane count; block5 has elements whose four
+// vertices lie in four banks at 4 lanes (refused below), so it runs at 1 and 2.
+TEST(ElementSchedule, TwoRowsOfOneLaneWithEndsInDistinctBanks) {
+  check_schedule(block_tetrahedra(4), {1, 2, 4});
+  check_schedule(block_tetrahedra(5), {1, 2});
+  EXPECT_THROW(schedule_elements(block_tetrahedra(5), 4), Error);
+}
+
+TEST(ElementSchedule, AnElementWithoutTwoVerticesInOneBankIsRefusedByName) {
+  const std::vector<std::array<int, 4>> tets = {{0, 1, 2, 3}};
+  EXPECT_NO_THROW(schedule_elements(tets, 2));
+  try {
+    schedule_elements(tets, 4);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("volume element 0"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("1 or 2 lanes"), std::string::npos) << e.what();
+  }
+}
+
+// ---- the element pass of the core ----
+
+Scenario volume_block(int n) {
+  Scenario s = load_scenario("block5");
+  s.block.nx = s.block.ny = s.block.nz = n;
+  s.block.volume.enabled = true;
+  s.block.volume.kv = 2e4;  // Pa, near the material's Voigt modulus
+  return s;
+}
+
+double plate_height(const Scenario& s, const Model& m, long step) {
+  return m.height - s.protocol.displacement_mm(double(step) * s.options.dt) * 1e-3;
+}
+
+TEST(VolumeCsim, APushedBlockWithVolumeForcesFollowsTheDoubleReference) {
+  const Scenario s = volume_block(4);
+  const Model model = s.build_model();
+  CoreImage img = make_core_image(model, initial_state(model), s.options.dt, 1, FormatDesc{},
+                                  hls::kThreeElementWithVolume);
+  EXPECT_TRUE(img.dropped_features.empty());
+  EXPECT_EQ(img.num_elements, int(model.tetrahedra.size()));
+  auto mem = std::make_unique<hls::CoreMemory>();
+  load_memory(img, *mem);
+  Simulator ref(hardware_model(model, nullptr, hls::kThreeElementWithVolume), s.options);
+  Simulator without(hardware_model(model), s.options);  // no volume forces
+  const double size = img.units.length_m * 8.0;
+  double worst = 0.0, effect = 0.0;
+  for (long n = 1; n <= 1500; ++n) {
+    const double z = plate_height(s, model, n);
+    mem->globals.plate_z = to_x_word(z, img, "plate");
+    hls::core_step<Fmt, 0, false, false, true>(*mem);
+    ref.step(z);
+    without.step(z);
+    ASSERT_EQ(mem->status, 0u) << "step " << n;
+    for (int i = 0; i < img.num_particles; ++i) {
+      double e2 = 0.0, v2 = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        const double d = from_x_word(mem->particles[i].x[a], img) - ref.state().x[i][a];
+        const double dv = ref.state().x[i][a] - without.state().x[i][a];
+        e2 += d * d;
+        v2 += dv * dv;
+      }
+      worst = std::max(worst, std::sqrt(e2) / size);
+      effect = std::max(effect, std::sqrt(v2) / size);
+    }
+  }
+  RecordProperty("max_pos_err_rel", sci(worst));
+  RecordProperty("volume_effect_rel", sci(effect));
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_GT(effect, 100.0 * worst) << "the volume forces change the motion far beyond the error";
+}
+
+TEST(VolumeCsim, OneTwoAndFourLanesGiveIdenticalWords) {
+  const Scenario s = volume_block(4);
+  const Model model = s.build_model();
+  std::vector<std::vector<std::int32_t>> forces, states;
+  for (int lanes : {1, 2, 4}) {
+    Device dev(std::make_unique<BitTrueTransport>(lanes, hls::kThreeElementWithVolume));
+    const CoreImage img = make_core_image(model, initial_state(model), s.options.dt, lanes,
+                                          FormatDesc{}, hls::kThreeElementWithVolume);
+    dev.load(img);
+    std::vector<std::int32_t> plate;
+    for (long n = 1; n <= 300; ++n)
+      plate.push_back(std::int32_t(to_x_word(plate_height(s, model, n), img, "plate")));
+    forces.push_back(dev.run(plate));
+    states.push_back(dev.read_particle_state(0, img.num_particles));
+    EXPECT_EQ(dev.read_status(false).flags, 0u) << lanes << " lanes";
+  }
+  EXPECT_EQ(forces[0], forces[1]);
+  EXPECT_EQ(states[0], states[1]);
+  EXPECT_EQ(forces[0], forces[2]);
+  EXPECT_EQ(states[0], states[2]);
+}
+
+// A second half without its first half in the lane's previous row, and an element on a
+// core without the unit, are schedule conflicts (the RTL flags the same, rheo_core).
+TEST(VolumeCsim, AMalformedElementIsAScheduleConflict) {
+  const Scenario s = volume_block(3);
+  const Model model = s.build_model();
+  const CoreImage img = make_core_image(model, initial_state(model), s.options.dt, 1,
+                                        FormatDesc{}, hls::kThreeElementWithVolume);
+  auto mem = std::make_unique<hls::CoreMemory>();
+  load_memory(img, *mem);
+  hls::core_step<Fmt, 0, false, false, true>(*mem);
+  EXPECT_FALSE(mem->status & hls::kStatusScheduleConflict);
+  load_memory(img, *mem);
+  mem->status = 0;
+  hls::core_step<Fmt>(*mem);  // the baseline core
+  EXPECT_TRUE(mem->status & hls::kStatusScheduleConflict);
+  load_memory(img, *mem);
+  mem->status = 0;
+  // The last element's first half made a bubble: its second half has no first half.
+  mem->edges[(img.edge_rows - 2) * img.lanes].valid = false;
+  hls::core_step<Fmt, 0, false, false, true>(*mem);
+  EXPECT_TRUE(mem->status & hls::kStatusScheduleConflict);
+}
+
+TEST(VolumeCsim, TheCycleFormulaCountsTheElementsRows) {
+  const Scenario s = volume_block(3);
+  const Model model = s.build_model();
+  const CoreImage with = make_core_image(model, initial_state(model), s.options.dt, 1,
+                                         FormatDesc{}, hls::kThreeElementWithVolume);
+  const CoreImage without = make_core_image(model, initial_state(model), s.options.dt, 1);
+  EXPECT_EQ(with.edge_rows, without.edge_rows + 2 * int(model.tetrahedra.size()));
+  EXPECT_FALSE(without.dropped_features.empty());
+}
+
+}  // namespace
+}  // namespace rheo::driver
