@@ -15,6 +15,10 @@
 // raise the TEM flag, and so do arms each beyond the word; RTL and bit-true agree on the
 // flags, every particle word and every arm extension.
 //
+// Volume elements: a squashed tetrahedron's force inside the word raises no flag; its
+// coefficient doubled until a force leaves the word raises StatusVolumeSaturated; RTL and
+// bit-true agree on the flags and every particle word.
+//
 // Plate force: the plate-force accumulator keeps 16 guard bits and saturates once when the
 // word is sent (StatusPlateSat). Many plate particles each pushing well inside the word
 // range add up beyond it: the flag is raised (and only that flag), in both models alike.
@@ -205,15 +209,16 @@ StepResult expect_step_matches(const CoreImage& img) {
 }
 
 // Steps the bit-true core of the image's element and, while a step raises no flag, applies
-// `raise` to the image (at most `tries` times); true once a step raises the TEM flag. A step
-// that raises another flag first fails the test.
+// `raise` to the image (at most `tries` times); true once a step raises `flag` (the TEM
+// flag unless given). A step that raises another flag first fails the test.
 template <class Raise>
-bool raise_until_tem_flag(CoreImage& img, int tries, Raise raise) {
+bool raise_until_flag(CoreImage& img, int tries, Raise raise,
+                      std::uint32_t flag = hls::kStatusTemSaturated) {
   auto bittrue = make_device("bittrue", 1, img.element);
   const std::int32_t plate = std::int32_t(to_x_word(1.0, img, "plate"));
   for (int i = 0; i < tries; ++i) {
     const StepResult r = one_step(*bittrue, img, plate);
-    if (r.flags & hls::kStatusTemSaturated) return true;
+    if (r.flags & flag) return true;
     EXPECT_EQ(r.flags, 0u) << describe_status_flags(r.flags);
     if (r.flags != 0u) return false;
     raise(img);
@@ -226,7 +231,7 @@ TEST(ArmForceLimit, FourArmsEachInsideTheWordWhoseSumIsBeyondItSaturateTheTensio
   // Raise all four arm springs together, one bit at a time, until the tension saturates.
   // The step before, the four arms (and the Voigt part) summed to less than the word, so
   // each arm alone stays below half the word after the last doubling: only the sum clips.
-  const bool reached = raise_until_tem_flag(img, 48, [](CoreImage& i) {
+  const bool reached = raise_until_flag(img, 48, [](CoreImage& i) {
     for (int j = 0; j < 4; ++j) --i.materials[0].k2t[j].shift;
   });
   ASSERT_TRUE(reached) << "the arms' force never saturated the tension";
@@ -271,7 +276,7 @@ TEST(DamperLimit, AnEdgeInsideItsRangeRaisesNoFlagOnEitherModel) {
 TEST(DamperLimit, ZBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
   CoreImage img = stretched_damper_image();
   const bool reached =
-      raise_until_tem_flag(img, 60, [](CoreImage& i) { --i.materials[0].zk.shift; });
+      raise_until_flag(img, 60, [](CoreImage& i) { --i.materials[0].zk.shift; });
   ASSERT_TRUE(reached) << "z never left its word";
   const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
@@ -312,7 +317,7 @@ TEST(HardeningLimit, AnEdgeInsideItsRangeRaisesNoFlagOnEitherModel) {
 TEST(HardeningLimit, StrainTermBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
   CoreImage img = stretched_hardening_image();
   const bool reached =
-      raise_until_tem_flag(img, 40, [](CoreImage& i) { --i.materials[0].hk.shift; });
+      raise_until_flag(img, 40, [](CoreImage& i) { --i.materials[0].hk.shift; });
   ASSERT_TRUE(reached) << "h never left its word";
   const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
@@ -358,7 +363,7 @@ TEST(EveryEffectLimit, AnEdgeInsideItsRangeRaisesNoFlagOnEitherModel) {
 TEST(EveryEffectLimit, StrainTermBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
   CoreImage img = stretched_every_effect_image();
   const bool reached =
-      raise_until_tem_flag(img, 40, [](CoreImage& i) { --i.materials[0].hk.shift; });
+      raise_until_flag(img, 40, [](CoreImage& i) { --i.materials[0].hk.shift; });
   ASSERT_TRUE(reached) << "h never left its word";
   const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
@@ -368,7 +373,7 @@ TEST(EveryEffectLimit, StrainTermBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
 TEST(EveryEffectLimit, ZBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
   CoreImage img = stretched_every_effect_image();
   const bool reached =
-      raise_until_tem_flag(img, 60, [](CoreImage& i) { --i.materials[0].zk.shift; });
+      raise_until_flag(img, 60, [](CoreImage& i) { --i.materials[0].zk.shift; });
   ASSERT_TRUE(reached) << "z never left its word";
   const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
@@ -378,10 +383,65 @@ TEST(EveryEffectLimit, ZBeyondItsWordSaturatesAndRtlAndBitTrueAgree) {
 TEST(EveryEffectLimit, ArmForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
   CoreImage img = stretched_every_effect_image();
   const bool reached =
-      raise_until_tem_flag(img, 48, [](CoreImage& i) { --i.materials[0].k2t[0].shift; });
+      raise_until_flag(img, 48, [](CoreImage& i) { --i.materials[0].k2t[0].shift; });
   ASSERT_TRUE(reached) << "the tension never saturated";
   const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
+}
+
+// One tetrahedron (its six edges and its volume force) with its apex pressed to 70 % of its
+// height, on the core with volume elements.
+CoreImage squashed_tetrahedron_image() {
+  Model m;
+  m.floor = false;
+  m.gravity = Vec3::Zero();
+  m.materials = {soft_material()};
+  m.x0 = {Vec3(0.0, 0.0, 0.5), Vec3(1.0, 0.0, 0.5), Vec3(0.0, 1.0, 0.5), Vec3(0.0, 0.0, 1.5)};
+  m.mass.assign(4, 100.0);
+  m.flags.assign(4, kFree);
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a + 1; b < 4; ++b) {
+      Edge e;
+      e.s = a;
+      e.e = b;
+      e.l0 = e.L = (m.x0[b] - m.x0[a]).norm();
+      m.edges.push_back(e);
+    }
+  }
+  m.tetrahedra = {{0, 1, 2, 3}};
+  m.volume.enabled = true;
+  m.volume.kv = 100.0;
+  m.size = 1.0;
+  m.height = 1.5;
+  State s = initial_state(m);
+  s.x[3].z() = 1.2;
+  return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWithVolume);
+}
+
+// The element's coefficient (the second half's L word) times two.
+void double_volume_coefficient(CoreImage& img) {
+  for (hls::EdgeEntry& e : img.edges) {
+    if (!(e.element && e.second)) continue;
+    hls::Coef c = hls::unpack_coef(std::uint32_t(e.L));
+    --c.shift;
+    e.L = std::int64_t((std::uint32_t(c.shift + hls::kCoefShiftBias) << frame::kCoefShiftPos) |
+                       (std::uint32_t(c.mant) & ((1u << hls::kCoefMantBits) - 1)));
+  }
+}
+
+TEST(VolumeLimit, AnElementInsideItsRangeRaisesNoFlagOnEitherModel) {
+  const StepResult golden = expect_step_matches(squashed_tetrahedron_image());
+  EXPECT_EQ(golden.flags, 0u) << describe_status_flags(golden.flags);
+  EXPECT_GT(golden.state[3 * 6 + 5], 0) << "the squashed element pushes its apex up (+z)";
+}
+
+TEST(VolumeLimit, AForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = squashed_tetrahedron_image();
+  const bool reached = raise_until_flag(img, 40, double_volume_coefficient,
+                                            hls::kStatusVolumeSaturated);
+  ASSERT_TRUE(reached) << "the element's force never left its word";
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusVolumeSaturated) << describe_status_flags(golden.flags);
 }
 
 // `pairs` plate particles at z = 0.5 m, each hanging from a fixed anchor 0.25 m above by a
