@@ -36,6 +36,13 @@ std::int64_t round_to_word(double scaled, int width, const std::string& what) {
   return static_cast<std::int64_t>(std::llround(scaled));
 }
 
+void check_lanes(const char* who, int lanes) {
+  if (lanes < 1 || lanes > hls::kMaxLanes) {
+    throw Error(std::string(who) + ": lanes = " + std::to_string(lanes) + ": expected 1.." +
+                std::to_string(hls::kMaxLanes));
+  }
+}
+
 std::uint32_t pack_coef(const hls::Coef& c) {
   return (std::uint32_t(c.shift + hls::kCoefShiftBias) << frame::kCoefShiftPos) |
          (std::uint32_t(c.mant) & ((1u << hls::kCoefMantBits) - 1));
@@ -63,10 +70,7 @@ std::array<int, 4> element_order(const std::array<int, 4>& v) {
 }  // namespace
 
 ElementSchedule schedule_elements(const std::vector<std::array<int, 4>>& elements, int lanes) {
-  if (lanes < 1 || lanes > hls::kMaxLanes) {
-    throw Error("schedule_elements: lanes = " + std::to_string(lanes) + ": expected 1.." +
-                std::to_string(hls::kMaxLanes));
-  }
+  check_lanes("schedule_elements", lanes);
   const int n = static_cast<int>(elements.size());
   ElementSchedule sch;
   sch.slot.assign(n, -1);
@@ -132,10 +136,7 @@ long cycles_per_step_formula(int edge_rows, int num_particles, int lanes,
 }
 
 EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int lanes) {
-  if (lanes < 1 || lanes > hls::kMaxLanes) {
-    throw Error("schedule_edges: lanes = " + std::to_string(lanes) + ": expected 1.." +
-                std::to_string(hls::kMaxLanes));
-  }
+  check_lanes("schedule_edges", lanes);
   const int ne = static_cast<int>(ends.size());
   EdgeSchedule sch;
   sch.slot.assign(ne, -1);

@@ -249,9 +249,6 @@ Scenario volume_block(int n) {
   return s;
 }
 
-double plate_height(const Scenario& s, const Model& m, long step) {
-  return m.height - s.protocol.displacement_mm(double(step) * s.options.dt) * 1e-3;
-}
 
 TEST(VolumeCsim, APushedBlockWithVolumeForcesFollowsTheDoubleReference) {
   const Scenario s = volume_block(4);
@@ -267,7 +264,7 @@ TEST(VolumeCsim, APushedBlockWithVolumeForcesFollowsTheDoubleReference) {
   const double size = img.units.length_m * 8.0;
   double worst = 0.0, effect = 0.0;
   for (long n = 1; n <= 1500; ++n) {
-    const double z = plate_height(s, model, n);
+    const double z = s.plate_z(model, n);
     mem->globals.plate_z = to_x_word(z, img, "plate");
     hls::core_step<Fmt, 0, false, false, true>(*mem);
     ref.step(z);
@@ -302,7 +299,7 @@ TEST(VolumeCsim, OneTwoAndFourLanesGiveIdenticalWords) {
     dev.load(img);
     std::vector<std::int32_t> plate;
     for (long n = 1; n <= 300; ++n)
-      plate.push_back(std::int32_t(to_x_word(plate_height(s, model, n), img, "plate")));
+      plate.push_back(std::int32_t(to_x_word(s.plate_z(model, n), img, "plate")));
     forces.push_back(dev.run(plate));
     states.push_back(dev.read_particle_state(0, img.num_particles));
     EXPECT_EQ(dev.read_status(false).flags, 0u) << lanes << " lanes";
