@@ -680,10 +680,20 @@ inline Operands<N> normalize_wide(const i128 (&v)[N]) {
 //   f_k = P g_k
 // e_k, g_b and V6 with kVolOperandBits-bit operands (exact for the hardware format), g_c, g_d
 // and the products after D with the format's operands (g_b rounded to their scale).
+// A triangle (a, b, c) of a 2-D model, whose particles move in the x-z plane, runs as the
+// tetrahedron with the virtual fourth vertex d = a + Y y^ (y > 0): e_d = (0, Y, 0), so
+//   V6 = e_b . (e_c x e_d) = 2 Y A,  A = ((b-a)_z (c-a)_x - (b-a)_x (c-a)_z) / 2
+// (rheo::Simulator's signed area), g_b = 2 Y dA/db, g_c = 2 Y dA/dc; g_d is left out
+// (g_d = 0, so f_d = 0 and g_a = -(g_b + g_c) = 2 Y dA/da), and
+//   c = kv Lu / (4 Y^2 Fu |A0|)  (kv in N/m; Y, A0 in Lu units),
+// which gives the reference's f_k = -kv (A - A0) / |A0| dA/dx_k. The host picks Y, a power
+// of two no larger than the rest element's largest difference, so that Y does not set the
+// operands' exponent (docs/hardware.md "Volume preservation").
 struct VolumeIn {
-  std::int64_t x[4][3];  // vertices a, b, c, d (X format)
+  std::int64_t x[4][3];  // vertices a, b, c, d (X format; d unused for a triangle)
   std::int64_t v0 = 0;   // V6_0: six times the rest volume (V format)
-  Coef c;                // kv Lu^2 / (36 Fu |V0|)
+  Coef c;                // kv Lu^2 / (36 Fu |V0|), or a triangle's kv Lu / (4 Y^2 Fu |A0|)
+  std::int64_t y = 0;    // a triangle's Y (X format, 1 .. 2^32 - 1); 0 for a tetrahedron
 };
 
 struct VolumeOut {
@@ -715,8 +725,11 @@ inline VolumeOut volume_element(const VolumeIn& in, std::uint32_t* status,
   constexpr Rounding R = Fmt::kRounding;
   VolumeTrace t;
   i128* e = t.e;
+  const bool triangle = in.y != 0;
   for (int k = 0; k < 3; ++k)
     for (int i = 0; i < 3; ++i) e[3 * k + i] = i128(in.x[k + 1][i]) - in.x[0][i];
+  if (triangle)
+    for (int i = 0; i < 3; ++i) e[6 + i] = i == 1 ? i128(in.y) : i128(0);
   // V6 = e_b . (e_c x e_d) with wide operands.
   t.ev = normalize_wide<VB, R, 9>(t.e);
   const std::int64_t* eb = &t.ev.mant[0];
@@ -746,9 +759,9 @@ inline VolumeOut volume_element(const VolumeIn& in, std::uint32_t* status,
   g[6] = i128(nd[1]) * nb[2] - i128(nd[2]) * nb[1];
   g[7] = i128(nd[2]) * nb[0] - i128(nd[0]) * nb[2];
   g[8] = i128(nd[0]) * nb[1] - i128(nd[1]) * nb[0];
-  g[9] = i128(nb[1]) * nc[2] - i128(nb[2]) * nc[1];
-  g[10] = i128(nb[2]) * nc[0] - i128(nb[0]) * nc[2];
-  g[11] = i128(nb[0]) * nc[1] - i128(nb[1]) * nc[0];
+  g[9] = triangle ? 0 : i128(nb[1]) * nc[2] - i128(nb[2]) * nc[1];
+  g[10] = triangle ? 0 : i128(nb[2]) * nc[0] - i128(nb[0]) * nc[2];
+  g[11] = triangle ? 0 : i128(nb[0]) * nc[1] - i128(nb[1]) * nc[0];
   for (int i = 0; i < 3; ++i) g[i] = -(g[3 + i] + g[6 + i] + g[9 + i]);
   t.gn = normalize_wide<B, R, 12>(t.g);
   t.shift_raw = CoefShifts<Fmt>::kVolume + in.c.shift - t.pn.shift - t.dn.shift - t.gn.shift -
@@ -867,7 +880,8 @@ inline std::int64_t mpm_particle(MpmParticle& q, const std::int64_t f[3], const 
 // Empty slots (valid = false) are bubbles of the schedule.
 // A volume element (Volume cores) takes two consecutive rows of one lane: the first slot
 // (element) holds vertices a (start) and b (end) and V6_0 split over L (low 32 bits) and d
-// (the rest); the second (element, second) holds c and d and the packed coefficient in L.
+// (the rest); the second (element, second) holds c and d, the packed coefficient in L and,
+// for a triangle of a 2-D model, Y in d (0 for a tetrahedron; d's particle is then unused).
 // The core keeps one element half per lane: a second half that does not follow a first
 // half in the lane's previous row, or an element slot on a core without the element unit,
 // is a schedule conflict.
@@ -949,6 +963,7 @@ edge_pass:
           vin.v0 = static_cast<std::int64_t>((std::uint64_t(first.d) << 32) |
                                              std::uint32_t(first.L));
           vin.c = unpack_coef(std::uint32_t(edge.L));
+          vin.y = std::int64_t(std::uint32_t(edge.d));  // the d word: a triangle's Y, or 0
           const VolumeOut out = volume_element<Fmt>(vin, &mem.status);
           for (int i = 0; i < 3; ++i) {
             mem.force_start[ai][i] += out.f[0][i];

@@ -166,6 +166,9 @@ endmodule
 // after the first half, f_c, f_d one clock later (Latency after the second half), which
 // are the output clocks of the TEM for the element's two slots. A first half without its
 // second half gives no output (hls::core_step drops it too).
+// A triangle of a 2-D model (its second half's d_i = Y, non-zero) runs as the tetrahedron
+// with the virtual vertex d = a + Y y^: e_d = (0, Y, 0) instead of the end particle's
+// difference, and g_d = 0 (left out of g_a and of g^'s exponent, so f_d = 0).
 // Because an element occupies two clocks, every multiplier is used twice per element:
 // in the first clock of a pair it computes one set of partial products, in the second the
 // other (the select is the valid bit of the stage before). So the exact 33 x 33 products
@@ -207,7 +210,7 @@ module rheo_volume #(
   input  logic [3*W-1:0] xs_i,      // the slot's start particle position, x at [W-1:0]
   input  logic [3*W-1:0] xe_i,      // the slot's end particle position
   input  logic [W-1:0]   l_i,       // first half: V6_0[31:0]; second: packed coefficient
-  input  logic [W-1:0]   d_i,       // first half: V6_0[63:32]; second: unused
+  input  logic [W-1:0]   d_i,       // first half: V6_0[63:32]; second: a triangle's Y, or 0
   output logic           valid_o,
   output logic [3*W-1:0] fs_o,      // force on the slot's start particle (F words)
   output logic [3*W-1:0] fe_o,      // force on the slot's end particle
@@ -316,18 +319,24 @@ module rheo_volume #(
     end
   end
 
-  // ---- t = 1: e_b, e_c, e_d (exact), held for the two clocks of the element ----
+  // ---- t = 1: e_b, e_c, e_d (exact), held for the two clocks of the element; a
+  //      triangle's e_d = (0, Y, 0), Y = d_i zero-extended ----
   // e1_q[0..2] = e_b, [3..5] = e_c, [6..8] = e_d
   logic signed [XW-1:0] e1_q [9];
+  logic tri1_q;
   always_ff @(posedge clk_i) begin
     if (v_q[0]) begin
       for (int i = 0; i < 3; i++) begin
         e1_q[i] <= eb0_q[i];
         e1_q[3+i] <= XW'(xs0_q[i]) - XW'(a_q[i]);
-        e1_q[6+i] <= XW'(xe0_q[i]) - XW'(a_q[i]);
+        if (|d0_q) e1_q[6+i] <= (i == 1) ? XW'({1'b0, d0_q}) : '0;
+        else e1_q[6+i] <= XW'(xe0_q[i]) - XW'(a_q[i]);
       end
+      tri1_q <= |d0_q;
     end
   end
+  logic tri11;  // at t = 11: the element is a triangle
+  rheo_delay #(.W(1), .N(10)) u_tri_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(tri1_q), .q_o(tri11));
   logic [9*XW-1:0] e1_flat;
   always_comb for (int k = 0; k < 9; k++) e1_flat[k*XW +: XW] = e1_q[k];
 
@@ -517,16 +526,16 @@ module rheo_volume #(
     assign gd11[i] = gd_q;
   end
 
-  // ---- t = 12-13: g_a = -(g_b + g_c + g_d) = -g_d - (g_b + g_c) ----
+  // ---- t = 12-13: g_a = -(g_b + g_c + g_d) = -g_d - (g_b + g_c); a triangle's g_d = 0 ----
   logic signed [GW-1:0] gbc12_q [3], ngd12_q [3], ga13_q [3];
   logic signed [GRW-1:0] gb12_q [3], gc12_q [3], gd12_q [3], gb13_q [3], gc13_q [3], gd13_q [3];
   always_ff @(posedge clk_i) begin
     for (int i = 0; i < 3; i++) begin
       gbc12_q[i] <= GW'($signed(gbr11[i*GRW +: GRW])) + GW'(gc11[i]);
-      ngd12_q[i] <= -(GW'(gd11[i]));
+      ngd12_q[i] <= tri11 ? '0 : -(GW'(gd11[i]));
       gb12_q[i] <= gbr11[i*GRW +: GRW];
       gc12_q[i] <= gc11[i];
-      gd12_q[i] <= gd11[i];
+      gd12_q[i] <= tri11 ? '0 : gd11[i];
       ga13_q[i] <= ngd12_q[i] - gbc12_q[i];  // |g_a| <= 3 2^(2B-1) < 2^(GW-1)
       gb13_q[i] <= gb12_q[i];
       gc13_q[i] <= gc12_q[i];

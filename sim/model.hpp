@@ -65,7 +65,7 @@ struct VolumePreservation {
 enum class PlateContact { kPenetration, kHoldWhilePushing };
 
 struct Model {
-  int dim = 3;                      // 2 (triangles, z = 0) or 3 (tetrahedra)
+  int dim = 3;                      // 2 (triangles in the x-z plane) or 3 (tetrahedra)
   std::vector<Vec3> x0;             // initial positions [m]
   std::vector<double> mass;         // particle masses [kg]
   std::vector<std::uint8_t> flags;  // ParticleFlag per particle

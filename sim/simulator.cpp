@@ -9,6 +9,7 @@
 
 #include "sim/error.hpp"
 #include "sim/edge_pass.hpp"
+#include "sim/element_measure.hpp"
 #include "sim/particle_rule.hpp"
 
 namespace rheo {
@@ -32,30 +33,6 @@ int element_vertex_count(const Model& m) { return m.dim == 2 ? 3 : 4; }
 
 int element_vertex(const Model& m, std::size_t element, int v) {
   return m.dim == 2 ? m.triangles[element][v] : m.tetrahedra[element][v];
-}
-
-// Signed area in the x-z plane (2D) or signed volume (3D) and its gradient with respect
-// to each vertex. 2D: A = ((b-a)_z (c-a)_x - (b-a)_x (c-a)_z) / 2.
-double signed_measure(int dim, const Vec3* p, Vec3* grad) {
-  if (dim == 2) {
-    const Vec3 ab = p[1] - p[0], ac = p[2] - p[0];
-    const double area = 0.5 * (ab.z() * ac.x() - ab.x() * ac.z());
-    if (grad) {
-      grad[1] = 0.5 * Vec3(-ac.z(), 0.0, ac.x());
-      grad[2] = 0.5 * Vec3(ab.z(), 0.0, -ab.x());
-      grad[0] = -(grad[1] + grad[2]);
-    }
-    return area;
-  }
-  const Vec3 ab = p[1] - p[0], ac = p[2] - p[0], ad = p[3] - p[0];
-  const double volume = ab.dot(ac.cross(ad)) / 6.0;
-  if (grad) {
-    grad[1] = ac.cross(ad) / 6.0;
-    grad[2] = ad.cross(ab) / 6.0;
-    grad[3] = ab.cross(ac) / 6.0;
-    grad[0] = -(grad[1] + grad[2] + grad[3]);
-  }
-  return volume;
 }
 
 // Geometry of a vertex against its opposite edge (2D, in the x-z plane) or face (3D):
@@ -125,7 +102,7 @@ double max_stable_dt(const Model& model, Integrator integrator) {
   for (std::size_t el = 0; el < element_count(model); ++el) {
     Vec3 p[4], grad[4];
     for (int v = 0; v < nv; ++v) p[v] = model.x0[element_vertex(model, el, v)];
-    const double rest = std::abs(signed_measure(model.dim, p, grad));
+    const double rest = std::abs(signed_measure<double>(model.dim, p, grad));
     for (int v = 0; v < nv; ++v) {
       const int i = element_vertex(model, el, v);
       if (model.topology.enabled) {
@@ -189,7 +166,7 @@ Simulator::Simulator(Model model, SimOptions options)
       id[v] = element_vertex(model_, el, v);
       p[v] = model_.x0[id[v]];
     }
-    const double rest = signed_measure(model_.dim, p, nullptr);
+    const double rest = signed_measure<double>(model_.dim, p, nullptr);
     if ((model_.topology.enabled || model_.volume.enabled) && !(std::abs(rest) > 0.0)) {
       throw Error("invalid model: element " + std::to_string(el) +
                   " has zero rest area/volume; expected a non-degenerate element");
@@ -284,7 +261,7 @@ double Simulator::element_volume(const std::vector<Vec3>& x, std::size_t element
   for (int v = 0; v < element_vertex_count(model_); ++v) {
     p[v] = x[element_vertex(model_, element, v)];
   }
-  return signed_measure(model_.dim, p, nullptr);
+  return signed_measure<double>(model_.dim, p, nullptr);
 }
 
 void Simulator::add_volume_forces(const State& s, std::vector<Vec3>& f) const {
@@ -292,7 +269,7 @@ void Simulator::add_volume_forces(const State& s, std::vector<Vec3>& f) const {
   for (std::size_t el = 0; el < rest_volume_.size(); ++el) {
     Vec3 p[4], grad[4];
     for (int v = 0; v < nv; ++v) p[v] = s.x[element_vertex(model_, el, v)];
-    const double vol = signed_measure(model_.dim, p, grad);
+    const double vol = signed_measure<double>(model_.dim, p, grad);
     const double rest = rest_volume_[el];
     // Divided by |V0|: the signed measure may be negative for a clockwise element, and the
     // force must still be the gradient of kv (V - V0)^2 / (2 |V0|).

@@ -4,8 +4,9 @@
 // instantiated for Real, and covers
 // what the hardware computes: three-element edges (with the optional kernel features),
 // gravity, floor, fixed and plate-driven particles with the unilateral plate rule.
-// volume-preserving forces per tetrahedron (the cores with volume elements). Topology
-// forces and 2-D area forces are not part of the hardware model and are refused here.
+// volume-preserving forces per tetrahedron and area-preserving forces per triangle (the
+// cores with volume elements). Topology forces are not part of the hardware model and are
+// refused here.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "sim/edge_pass.hpp"
+#include "sim/element_measure.hpp"
 #include "sim/error.hpp"
 #include "sim/model.hpp"
 #include "sim/particle_rule.hpp"
@@ -26,17 +28,17 @@ class SieLoop {
   using V = std::array<Real, 3>;
 
   SieLoop(const Model& model, double dt) : model_(model), dt_(static_cast<Real>(dt)) {
-    if (model.topology.enabled || (model.volume.enabled && model.dim != 3)) {
+    if (model.topology.enabled) {
       throw Error(
-          "float loop: topology and area forces are not part of the hardware model; "
+          "float loop: topology forces are not part of the hardware model; "
           "expected a model from driver::hardware_model()");
     }
     if (model.volume.enabled) {
-      for (const auto& t : model.tetrahedra) {
-        // As the reference computes it (signed_measure).
-        const Vec3 ab = model.x0[t[1]] - model.x0[t[0]], ac = model.x0[t[2]] - model.x0[t[0]],
-                   ad = model.x0[t[3]] - model.x0[t[0]];
-        rest_volume_.push_back(static_cast<Real>(ab.dot(ac.cross(ad)) / 6.0));
+      for (std::size_t el = 0; el < element_count(); ++el) {
+        Vec3 p[4];
+        for (int k = 0; k < vertex_count(); ++k) p[k] = model.x0[vertex(el, k)];
+        // As the reference computes it, in double.
+        rest_volume_.push_back(static_cast<Real>(signed_measure<double>(model.dim, p, nullptr)));
       }
     }
     const int n = model.num_particles();
@@ -141,38 +143,32 @@ class SieLoop {
   }
 
  private:
-  static V sub(const V& p, const V& q) { return V{p[0] - q[0], p[1] - q[1], p[2] - q[2]}; }
-  static V cross(const V& p, const V& q) {
-    return V{p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0]};
+  std::size_t element_count() const {
+    return model_.dim == 2 ? model_.triangles.size() : model_.tetrahedra.size();
+  }
+  int vertex_count() const { return model_.dim == 2 ? 3 : 4; }
+  int vertex(std::size_t el, int k) const {
+    return model_.dim == 2 ? model_.triangles[el][k] : model_.tetrahedra[el][k];
   }
 
-  // The reference's volume forces (Simulator::add_volume_forces) in Real: per tetrahedron
-  // p = -kv (V - V0) / |V0| and p dV/dx_k on its vertices.
+  // The reference's volume (area) forces (Simulator::add_volume_forces) in Real: per
+  // element p = -kv (V - V0) / |V0| and p dV/dx_k on its vertices.
   void add_volume_forces() {
     const Real kv = static_cast<Real>(model_.volume.kv);
+    const int nv = vertex_count();
     for (std::size_t el = 0; el < rest_volume_.size(); ++el) {
-      const auto& t = model_.tetrahedra[el];
-      const V ab = sub(x_[t[1]], x_[t[0]]), ac = sub(x_[t[2]], x_[t[0]]),
-              ad = sub(x_[t[3]], x_[t[0]]);
-      V grad[4];
-      grad[1] = cross(ac, ad);
-      grad[2] = cross(ad, ab);
-      grad[3] = cross(ab, ac);
-      const Real six = Real(6);
-      const Real vol = (ab[0] * grad[1][0] + ab[1] * grad[1][1] + ab[2] * grad[1][2]) / six;
+      V p[4], grad[4];
+      for (int k = 0; k < nv; ++k) p[k] = x_[vertex(el, k)];
+      const Real vol = signed_measure<Real>(model_.dim, p, grad);
       const Real rest = rest_volume_[el];
       const Real pressure = -kv * (vol - rest) / (rest < Real(0) ? -rest : rest);
-      for (int c = 0; c < 3; ++c) {
-        for (int k = 1; k < 4; ++k) grad[k][c] /= six;
-        grad[0][c] = -(grad[1][c] + grad[2][c] + grad[3][c]);
-      }
-      for (int k = 0; k < 4; ++k)
-        for (int c = 0; c < 3; ++c) f_[t[k]][c] += pressure * grad[k][c];
+      for (int k = 0; k < nv; ++k)
+        for (int c = 0; c < 3; ++c) f_[vertex(el, k)][c] += pressure * grad[k][c];
     }
   }
 
   const Model& model_;
-  std::vector<Real> rest_volume_;  // signed rest volume per tetrahedron
+  std::vector<Real> rest_volume_;  // signed rest volume (area) per element
   Real dt_;
   std::vector<V> x_, v_, f_;
   std::vector<Real> d_, m_, ddot_, mdot_, length_;

@@ -50,21 +50,26 @@ std::uint32_t pack_coef(const hls::Coef& c) {
 
 // An element's vertices as (a, b, c, d) with a and c in one bank at every lane count the
 // element can run at: a pair equal mod 4 if there is one, else a pair equal mod 2 (four
-// vertices always have one); b and d the others in the model's order. One order for every
-// lane count keeps the forces' rounding, and so every word, independent of the lanes.
+// vertices always have one); b and d the others in the model's order. A triangle (v[3] =
+// -1) reads no fourth vertex, but its second slot still has an end particle: c, which is
+// in the lane's own bank and so never contends with another lane (with three vertices a
+// pair equal mod 2 is certain only when the pair is chosen among all three, which it is).
+// One order for every lane count keeps the forces' rounding, and so every word,
+// independent of the lanes.
 std::array<int, 4> element_order(const std::array<int, 4>& v) {
-  for (int mod : {4, 2}) {
-    for (int p = 0; p < 4; ++p) {
-      for (int q = p + 1; q < 4; ++q) {
+  const int n = v[3] < 0 ? 3 : 4;
+  for (int mod : {4, 2, 1}) {
+    for (int p = 0; p < n; ++p) {
+      for (int q = p + 1; q < n; ++q) {
         if (v[p] % mod != v[q] % mod) continue;
-        int rest[2], n = 0;
-        for (int t = 0; t < 4; ++t)
-          if (t != p && t != q) rest[n++] = v[t];
-        return {v[p], rest[0], v[q], rest[1]};
+        int rest[2] = {-1, -1}, r = 0;
+        for (int t = 0; t < n; ++t)
+          if (t != p && t != q) rest[r++] = v[t];
+        return {v[p], rest[0], v[q], n == 3 ? v[q] : rest[1]};
       }
     }
   }
-  return v;  // unreachable: two of four integers share a parity
+  return v;  // unreachable: mod 1 matches any pair
 }
 
 }  // namespace
@@ -80,11 +85,13 @@ ElementSchedule schedule_elements(const std::vector<std::array<int, 4>>& element
   for (int k = 0; k < n; ++k) {
     const std::array<int, 4> v = element_order(elements[k]);
     if (v[0] % lanes != v[2] % lanes) {
+      std::string ids = std::to_string(v[0]) + ", " + std::to_string(v[1]) + ", " +
+                        std::to_string(v[2]);
+      if (elements[k][3] >= 0) ids += ", " + std::to_string(v[3]);
       throw Error("volume element " + std::to_string(k) + " has no two vertices in one bank at " +
-                  std::to_string(lanes) + " lanes (vertex indices " + std::to_string(v[0]) +
-                  ", " + std::to_string(v[1]) + ", " + std::to_string(v[2]) + ", " +
-                  std::to_string(v[3]) + "): the core reads two of them from the lane's own "
-                  "bank; run it with 1 or 2 lanes");
+                  std::to_string(lanes) + " lanes (vertex indices " + ids +
+                  "): the core reads two of them from the lane's own bank; run it with 1 or "
+                  "2 lanes");
     }
     sch.vertex[k] = v;
     queue[v[0] % lanes].push_back(k);
@@ -384,7 +391,7 @@ const hls::EdgeElement& edge_element_for(const Model& model) {
     damper = damper || m.nonlinear;
     hardening = hardening || m.hardening != 0.0;
   }
-  const bool volume = model.volume.enabled && model.dim == 3;
+  const bool volume = model.volume.enabled;
   if (const hls::EdgeElement* e = hls::edge_element_with(arms, damper, hardening, volume))
     return *e;
   // More arms than any core carries: the core with the most arms (and the damper,
@@ -433,13 +440,9 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped,
   }
   if (hw.topology.enabled) notes.push_back("topology-maintenance forces");
   hw.topology.enabled = false;
-  if (hw.volume.enabled && hw.dim != 3) {
-    notes.push_back("area-preserving forces (the core computes volume elements, tetrahedra, "
-                    "only)");
-    hw.volume.enabled = false;
-  } else if (hw.volume.enabled && !element.volume_preservation) {
-    notes.push_back("volume-preserving forces (the " + std::string(element.name) +
-                    " core has no volume elements)");
+  if (hw.volume.enabled && !element.volume_preservation) {
+    notes.push_back(std::string(hw.dim == 2 ? "area" : "volume") + "-preserving forces (the " +
+                    std::string(element.name) + " core has no volume elements)");
     hw.volume.enabled = false;
   }
   if (dropped) *dropped = notes;
@@ -462,31 +465,59 @@ double from_f_word(std::int64_t word, const CoreImage& image) {
 
 namespace {
 
-// The volume elements' slots (hls::EdgeEntry), after the edges' `edge_rows` rows: V6_0 of
-// the rest positions in the schedule's vertex order (the reference's rest volume, signed
-// by that order) and c = kv Lu^2 / (36 Fu |V0|) (hls::volume_element).
+}  // namespace
+
+ElementWords encode_element(int dim, const Vec3* rest, double kv_folded, const FormatDesc& format,
+                            const std::string& where) {
+  const bool triangle = dim == 2;
+  const Vec3 ab = rest[1] - rest[0], ac = rest[2] - rest[0];
+  ElementWords w;
+  double v6 = 0.0, coef = 0.0;
+  if (triangle) {
+    // Y: the largest power of two (in X words) no larger than the largest difference
+    // component, so that it never sets the operands' exponent at rest.
+    const double span = std::max(ab.cwiseAbs().maxCoeff(), ac.cwiseAbs().maxCoeff());
+    const int y_exp = span > 0.0 ? std::clamp(std::ilogb(std::ldexp(span, format.frac_x)), 0, 31) : 0;
+    w.y = std::int64_t(1) << y_exp;
+    const double y = std::ldexp(1.0, y_exp - format.frac_x);  // length units
+    v6 = 2.0 * y * (0.5 * (ab.z() * ac.x() - ab.x() * ac.z()));
+    coef = kv_folded / (2.0 * y * std::fabs(v6));  // kv Lu / (4 Y^2 Fu |A0|)
+  } else {
+    v6 = ab.dot(ac.cross(rest[3] - rest[0]));
+    coef = kv_folded / (6.0 * std::fabs(v6));  // kv Lu^2 / (36 Fu |V0|)
+  }
+  const char* measure = triangle ? "area" : "volume";
+  if (!(std::fabs(v6) > 0.0)) {
+    throw Error(where + " has zero rest " + measure + ": expected a non-degenerate element");
+  }
+  const double v6_word = std::ldexp(v6, format.frac_v);
+  if (!(std::fabs(v6_word) < std::ldexp(1.0, 62))) {
+    throw Error(where + ": rest " + measure + " is too large for the core's 64-bit volume word");
+  }
+  w.v0 = std::llround(v6_word);
+  w.c = encode_coef(coef, where + (triangle ? ": kv Lu / (4 Y^2 Fu |A0|)" : ": kv Lu^2 / (36 Fu |V0|)"),
+                    hls::CoefShifts<hls::HardwareFormat>::kVolume);
+  return w;
+}
+
+namespace {
+
+// The volume elements' slots (hls::EdgeEntry), after the edges' `edge_rows` rows, with the
+// words of encode_element for the rest positions in the schedule's vertex order (the
+// reference's rest volume, signed by that order).
 void encode_elements(const Model& model, const ElementSchedule& esch, int edge_rows, double Lu,
                      double Fu, CoreImage& img) {
   const int lanes = img.lanes;
+  const bool triangles = model.dim == 2;
+  // kv Lu^2 / Fu (3-D, kv in Pa) or kv Lu / Fu (2-D, kv in N/m)
+  const double kv_folded = model.volume.kv * (triangles ? Lu : Lu * Lu) / Fu;
   for (std::size_t k = 0; k < esch.vertex.size(); ++k) {
     const std::array<int, 4>& v = esch.vertex[k];
-    const std::string where = "tetrahedron " + std::to_string(k);
-    const Vec3 a = model.x0[v[0]] / Lu;
-    const Vec3 ab = model.x0[v[1]] / Lu - a, ac = model.x0[v[2]] / Lu - a,
-               ad = model.x0[v[3]] / Lu - a;
-    const double v6 = ab.dot(ac.cross(ad));
-    const double v6_word = std::ldexp(v6, img.format.frac_v);
-    if (!(std::fabs(v6) > 0.0)) {
-      throw Error(where + " has zero rest volume: expected a non-degenerate element");
-    }
-    if (!(std::fabs(v6_word) < std::ldexp(1.0, 62))) {
-      throw Error(where + ": rest volume " + str(v6 / 6.0 * Lu * Lu * Lu) +
-                  " m^3 is too large for the core's 64-bit volume word");
-    }
-    const std::int64_t v0 = std::llround(v6_word);
-    const hls::Coef c = encode_coef(model.volume.kv * Lu * Lu / (6.0 * Fu * std::fabs(v6)),
-                                    where + ": kv Lu^2 / (36 Fu |V0|)",
-                                    hls::CoefShifts<hls::HardwareFormat>::kVolume);
+    Vec3 rest[4];
+    for (int j = 0; j < (triangles ? 3 : 4); ++j) rest[j] = model.x0[v[j]] / Lu;
+    const ElementWords words =
+        encode_element(model.dim, rest, kv_folded, img.format,
+                       (triangles ? "triangle " : "tetrahedron ") + std::to_string(k));
     const int slot = (edge_rows + esch.slot[k] / lanes) * lanes + esch.slot[k] % lanes;
     for (int half = 0; half < 2; ++half) {
       hls::EdgeEntry& ee = img.edges[std::size_t(slot) + std::size_t(half) * lanes];
@@ -498,10 +529,11 @@ void encode_elements(const Model& model, const ElementSchedule& esch, int edge_r
       ee.e_bank = e % lanes;
       ee.e_local = e / lanes;
       ee.material = 0;
-      // The words as the core holds them: V6_0's low 32 bits in L, the rest in d.
-      ee.L = half == 0 ? std::int64_t(std::int32_t(std::uint32_t(std::uint64_t(v0))))
-                       : std::int64_t(pack_coef(c));
-      ee.d = half == 0 ? (v0 >> 32) : 0;
+      // The words as the core holds them: V6_0's low 32 bits in L, the rest in d; then
+      // the packed coefficient in L and a triangle's Y (or 0) in d.
+      ee.L = half == 0 ? std::int64_t(std::int32_t(std::uint32_t(std::uint64_t(words.v0))))
+                       : std::int64_t(pack_coef(words.c));
+      ee.d = half == 0 ? (words.v0 >> 32) : words.y;
     }
   }
   img.num_elements = static_cast<int>(esch.vertex.size());
@@ -675,16 +707,21 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
     }
   }
   // Volume elements (hardware_model kept them only for a core that computes them).
+  // A 2-D model's triangles run as elements without a fourth vertex (v[3] = -1).
   std::vector<std::array<int, 4>> elements;
-  if (model.volume.enabled) {
+  if (model.volume.enabled && model.dim == 2) {
+    for (const auto& t : model.triangles) elements.push_back({t[0], t[1], t[2], -1});
+  } else if (model.volume.enabled) {
     elements = model.tetrahedra;
-    for (std::size_t k = 0; k < elements.size(); ++k) {
-      for (int v : elements[k]) {
-        if (v < 0 || v >= np) {
-          throw Error("tetrahedron " + std::to_string(k) + ": particle index out of range");
-        }
-        ++degree[v];
+  }
+  for (std::size_t k = 0; k < elements.size(); ++k) {
+    for (int v : elements[k]) {
+      if (v == -1 && model.dim == 2) continue;
+      if (v < 0 || v >= np) {
+        throw Error((model.dim == 2 ? "triangle " : "tetrahedron ") + std::to_string(k) +
+                    ": particle index out of range");
       }
+      ++degree[v];
     }
   }
   for (int i = 0; i < np; ++i) {

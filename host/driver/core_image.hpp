@@ -42,7 +42,7 @@ struct CoreImage {
   int lanes = 1;
   int num_particles = 0;
   int num_edges = 0;                        // edges of the model
-  int num_elements = 0;                     // volume elements (tetrahedra) in the edge pass
+  int num_elements = 0;                     // volume elements (tetrahedra, triangles) in the edge pass
   int edge_rows = 0;                        // R: rows of the edge schedule (elements' too)
   std::vector<hls::MpmParticle> particles;  // by particle index
   std::vector<hls::EdgeEntry> edges;        // edge_rows * lanes slots, row-major
@@ -87,6 +87,20 @@ struct ElementSchedule {
   std::vector<std::array<int, 4>> vertex;  // per element: a, b, c, d (a permutation)
 };
 ElementSchedule schedule_elements(const std::vector<std::array<int, 4>>& elements, int lanes);
+
+// The words of one volume element (hls::VolumeIn) as make_core_image encodes them: V6_0
+// of the rest vertices `rest` (length units, in the element's vertex order: a, b, c and,
+// for dim 3, d), the coefficient c for kv_folded = kv Lu^2 / Fu (dim 3, kv in Pa) or
+// kv Lu / Fu (dim 2, kv in N/m) and, for a triangle (dim 2), Y: the largest power of two
+// (X words) no larger than the rest differences' largest component. Throws rheo::Error,
+// naming `where`, for a degenerate element or words out of range.
+struct ElementWords {
+  std::int64_t v0 = 0;
+  hls::Coef c;
+  std::int64_t y = 0;
+};
+ElementWords encode_element(int dim, const Vec3* rest, double kv_folded, const FormatDesc& format,
+                            const std::string& where);
 
 // Builds the image of `model` in `state` for time step dt. Throws rheo::Error on values
 // out of range (positions beyond the X range, coefficients beyond the 18-bit mantissa,

@@ -17,7 +17,9 @@
 // P^ g^ = (-2^17)^2 = 2^(2B-2) at the clamped shift 2B (rounds to 0, where 2B - 1 would give
 // 1), and -D^ c rounding up to 2^17 (P^ held at 2^17 - 1). The test checks that it reaches
 // every operand hold, every exponent each normalisation can take (and none beyond), both
-// shift clamps and left shifts.
+// shift clamps and left shifts. Triangles of 2-D models (the second half's d word = Y) are
+// mixed in: realistic ones in the x-z plane as the host encodes them, and any words with any
+// Y; their f_d must be 0 and their beats equal like the tetrahedra's.
 #include <gtest/gtest.h>
 
 #pragma GCC diagnostic push
@@ -51,14 +53,14 @@ constexpr int kElements = 25000;
 
 enum Kind {
   kRealistic, kAtRest, kCoplanar, kEqual, kFarV0, kAnyCoef, kCorner, kAnyWord, kMaxProduct,
-  kPHold, kTiny, kNearV0, kWordCorner, kKinds
+  kPHold, kTiny, kNearV0, kWordCorner, kTriangle, kAnyTriangle, kKinds
 };
 const char* const kKindNames[kKinds] = {
     "realistic",          "at rest",          "degenerate (coplanar, collinear)",
     "all vertices equal", "V6_0 far from V6", "any coefficient word",
     "extreme coordinates", "any position words", "P^ g^ = 2^34 at the shift clamp",
     "P^ held at 2^17 - 1", "tiny (1 to 2^24 LSB)", "V6_0 within 2^24 of V6",
-    "vertices at the word's ends"};
+    "vertices at the word's ends", "triangles (2-D, realistic)", "triangles (any words, any Y)"};
 
 struct Element {
   VolumeIn in;
@@ -132,16 +134,15 @@ Expected expected_forces(const VolumeIn& in) {
 
 std::int64_t xword(double lu) { return std::llround(std::ldexp(lu, Fmt::kFracX)); }
 
-// The host's V6_0 and c (driver::encode_elements) for rest positions in length units;
-// false when c does not fit the coefficient format.
-bool encode_rest(const Eigen::Vector3d (&rest)[4], double kv_folded, Element& el) {
-  const double v6 =
-      (rest[1] - rest[0]).dot((rest[2] - rest[0]).cross(rest[3] - rest[0]));
-  if (!(std::fabs(v6) > 0.0)) return false;
-  el.in.v0 = std::llround(std::ldexp(v6, Fmt::kFracV));
+// The host's V6_0, c and Y (driver::encode_element) for rest positions in length units;
+// false when they do not fit the core's words.
+bool encode_rest(int dim, const Eigen::Vector3d (&rest)[4], double kv_folded, Element& el) {
   try {
-    el.in.c = driver::encode_coef(kv_folded / (6.0 * std::fabs(v6)), "c",
-                                  CoefShifts<Fmt>::kVolume);
+    const driver::ElementWords w =
+        driver::encode_element(dim, rest, kv_folded, driver::FormatDesc{}, "element");
+    el.in.v0 = w.v0;
+    el.in.c = w.c;
+    el.in.y = w.y;
   } catch (const Error&) {
     return false;
   }
@@ -160,7 +161,9 @@ Element draw(std::mt19937_64& rng) {
                     : what < 0.05 ? kTiny
                     : what < 0.08 ? kNearV0
                     : what < 0.09 ? kWordCorner
-                    : what < 0.62 ? kRealistic
+                    : what < 0.52 ? kRealistic
+                    : what < 0.60 ? kTriangle
+                    : what < 0.62 ? kAnyTriangle
                     : what < 0.66 ? kAtRest
                     : what < 0.72 ? kCoplanar
                     : what < 0.73 ? kEqual
@@ -198,7 +201,37 @@ Element draw(std::mt19937_64& rng) {
     for (int k = 0; k < 4; ++k)
       for (int i = 0; i < 3; ++i) el.in.x[k][i] = xword(now[k][i]);
     const double kv_folded = std::exp2(-8.0 + 14.0 * unit(rng));
-    if (!encode_rest(rest, kv_folded, el)) continue;
+    if (kind == kTriangle) {
+      // In the x-z plane at one y: the corner triangle, jittered, turned about y, strained
+      // in the plane; d's words are anything (the unit does not read them).
+      const double turn = 3.14159265358979 * sym(rng), y = reach * sym(rng);
+      const Eigen::Vector3d tbase[3] = {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}};
+      for (int k = 0; k < 3; ++k) {
+        const double bx = tbase[k].x() + 0.25 * sym(rng), bz = tbase[k].z() + 0.25 * sym(rng);
+        rest[k] = centre + size * Eigen::Vector3d(std::cos(turn) * bx - std::sin(turn) * bz, 0.0,
+                                                  std::sin(turn) * bx + std::cos(turn) * bz);
+        rest[k].y() = y;
+      }
+      if (unit(rng) < 0.5) std::swap(rest[1], rest[2]);  // the other orientation
+      for (int k = 0; k < 3; ++k) {
+        now[k] = centre + deform * (rest[k] - centre);
+        now[k].y() = y;
+        for (int i = 0; i < 3; ++i) el.in.x[k][i] = xword(std::clamp(now[k][i], -15.5, 15.5));
+      }
+      for (int i = 0; i < 3; ++i) el.in.x[3][i] = any_word(rng);
+      if (!encode_rest(2, rest, kv_folded, el)) continue;
+      return el;
+    }
+    if (kind == kAnyTriangle) {
+      for (int k = 0; k < 4; ++k)
+        for (int i = 0; i < 3; ++i) el.in.x[k][i] = any_word(rng);
+      el.in.y = std::max<std::int64_t>(1, any_u32(rng) >> std::uniform_int_distribution<int>(0, 31)(rng));
+      el.in.v0 = static_cast<std::int64_t>(any_u64(rng)) >> std::uniform_int_distribution<int>(0, 40)(rng);
+      el.coef_word = any_u32(rng);
+      el.in.c = unpack_coef(el.coef_word);
+      return el;
+    }
+    if (!encode_rest(3, rest, kv_folded, el)) continue;
 
     if (kind == kMaxProduct) {
       // e_b = (0, 1, 1), e_c = (0, 2^9, 0), e_d = (2^8, 0, 0) words from a: g_b = (0, 0, -2^17),
@@ -360,7 +393,7 @@ void expect_rtl_volume_matches_bit_true(int latency, std::uint64_t seed) {
     a.l = std::uint32_t(std::uint64_t(el.in.v0));
     a.d = std::uint32_t(std::uint64_t(el.in.v0) >> 32);
     b.l = el.coef_word;
-    b.d = any_u32(rng);  // unused by the second half
+    b.d = std::uint32_t(el.in.y);  // a triangle's Y, 0 for a tetrahedron
     first_slot.push_back(int(slots.size()));
     slots.push_back(a);
     slots.push_back(b);
@@ -381,6 +414,9 @@ void expect_rtl_volume_matches_bit_true(int latency, std::uint64_t seed) {
   int left_shifts = 0, clamped_low = 0, clamped_high = 0, max_products = 0;
   for (std::size_t n = 0; n < elements.size(); ++n) {
     const Expected x = expected_forces(elements[n].in);
+    if (elements[n].in.y != 0) {
+      for (int i = 0; i < 3; ++i) ASSERT_EQ(x.f[3][i], 0) << "a triangle's f_d";
+    }
     for (int h = 0; h < kHolds; ++h) {
       holds[h] += x.hold[h];
       ++exponents[h][std::size_t(x.exponent[h])];
@@ -450,8 +486,8 @@ void expect_rtl_volume_matches_bit_true(int latency, std::uint64_t seed) {
       for (int k = 0; k < 4; ++k)
         std::printf(" (%lld %lld %lld)", static_cast<long long>(in.x[k][0]),
                     static_cast<long long>(in.x[k][1]), static_cast<long long>(in.x[k][2]));
-      std::printf(", V6_0 %lld, c %d 2^-%d\n", static_cast<long long>(in.v0), in.c.mant,
-                  in.c.shift);
+      std::printf(", V6_0 %lld, c %d 2^-%d, Y %lld\n", static_cast<long long>(in.v0), in.c.mant,
+                  in.c.shift, static_cast<long long>(in.y));
       return;
     }
     ++checked_beats;
@@ -462,6 +498,9 @@ void expect_rtl_volume_matches_bit_true(int latency, std::uint64_t seed) {
   EXPECT_LT(sat_per_kind[kRealistic], per_kind[kRealistic] / 100)
       << "realistic elements should hardly saturate";
   EXPECT_EQ(sat_per_kind[kEqual], 0) << "an element with all vertices equal has no force";
+  EXPECT_GT(per_kind[kTriangle], kElements / 20);
+  EXPECT_LT(sat_per_kind[kTriangle], per_kind[kTriangle] / 100)
+      << "realistic triangles should hardly saturate";
   for (int h = 0; h < kHolds; ++h) {
     EXPECT_GT(holds[h], 0) << "no element held " << kHoldNames[h] << " at 2^(B-1) - 1";
     for (int e = 0; e <= kMaxExponent[h]; ++e)

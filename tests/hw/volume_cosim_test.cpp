@@ -1,6 +1,7 @@
 // Bit-exact cosimulation of the RTL cores with volume elements (VolumePreservation = 1)
 // against the bit-true model: the baseline edge with volume forces at one and two lanes (the
-// element schedule across lanes), and every feature the core has at once over the whole
+// element schedule across lanes), a 2-D block with area forces (triangles) likewise, and
+// every feature the core has at once over the whole
 // block5 protocol (10,000 steps) on the shipped scenario data/scenarios/block5_every_feature.json.
 // Each shows that the volume forces change the plate force by far more than the fixed-point
 // error, so they could not be silently missing.
@@ -31,8 +32,17 @@ Scenario volume_block4() {
   return s;
 }
 
-TEST(VolumeCosim, ABlockWithVolumeForcesIsBitExactAtOneAndTwoLanes) {
-  const Scenario scenario = volume_block4();
+// The 2-D block5 (5 x 5 particles in the x-z plane, 40 mm deep) with area preservation.
+Scenario area_block5() {
+  Scenario s = load_scenario("block5");
+  s.block.dim = 2;
+  s.block.ny = 1;
+  s.block.volume.enabled = true;
+  s.block.volume.kv = 800.0;  // N/m: the 3-D block's 2e4 Pa times its depth
+  return s;
+}
+
+void expect_exact_at_one_and_two_lanes(const Scenario& scenario, const std::string& label) {
   const Model model = scenario.build_model();
   EXPECT_EQ(edge_element_for(model), hls::kThreeElementWithVolume);
   for (int lanes : {1, 2}) {
@@ -54,8 +64,16 @@ TEST(VolumeCosim, ABlockWithVolumeForcesIsBitExactAtOneAndTwoLanes) {
     without.volume.enabled = false;
     const cosim_test::ForceEffect e = cosim_test::force_effect(scenario, without, r);
     EXPECT_GE(e.max_diff_N, kMinEffectRel * e.peak_N);
-    cosim_test::report(lanes == 1 ? "volume, 1 lane" : "volume, 2 lanes", "volume", r, e);
+    cosim_test::report((label + (lanes == 1 ? ", 1 lane" : ", 2 lanes")).c_str(), label.c_str(), r, e);
   }
+}
+
+TEST(VolumeCosim, ABlockWithVolumeForcesIsBitExactAtOneAndTwoLanes) {
+  expect_exact_at_one_and_two_lanes(volume_block4(), "volume");
+}
+
+TEST(VolumeCosim, A2DBlockWithAreaForcesIsBitExactAtOneAndTwoLanes) {
+  expect_exact_at_one_and_two_lanes(area_block5(), "area");
 }
 
 TEST(EveryFeatureCosim, Block5WithEveryFeatureIsBitExactOverTheWholeProtocol) {

@@ -37,10 +37,7 @@ TEST(SieLoop, InstantiatedForDoubleReproducesTheReferenceSimulatorBitForBit) {
   }
 }
 
-TEST(SieLoop, WithVolumeForcesReproducesTheReferenceSimulatorBitForBit) {
-  Scenario scenario = load_scenario("block5");
-  scenario.block.volume.enabled = true;
-  scenario.block.volume.kv = 2e4;
+void expect_bit_for_bit_with_volume(const Scenario& scenario) {
   const Model model =
       driver::hardware_model(scenario.build_model(), nullptr, hls::kThreeElementWithVolume);
   ASSERT_TRUE(model.volume.enabled);
@@ -54,6 +51,22 @@ TEST(SieLoop, WithVolumeForcesReproducesTheReferenceSimulatorBitForBit) {
   for (int i = 0; i < model.num_particles(); ++i)
     for (int c = 0; c < 3; ++c)
       ASSERT_EQ(loop.position(i, c), reference.state().x[i][c]) << "particle " << i;
+}
+
+TEST(SieLoop, WithVolumeForcesReproducesTheReferenceSimulatorBitForBit) {
+  Scenario scenario = load_scenario("block5");
+  scenario.block.volume.enabled = true;
+  scenario.block.volume.kv = 2e4;
+  expect_bit_for_bit_with_volume(scenario);
+}
+
+TEST(SieLoop, With2DAreaForcesReproducesTheReferenceSimulatorBitForBit) {
+  Scenario scenario = load_scenario("block5");
+  scenario.block.dim = 2;
+  scenario.block.ny = 1;
+  scenario.block.volume.enabled = true;
+  scenario.block.volume.kv = 800.0;
+  expect_bit_for_bit_with_volume(scenario);
 }
 
 TEST(SieLoop, RefusesModelsWithForcesTheHardwareDoesNotCompute) {
