@@ -418,6 +418,36 @@ CoreImage squashed_tetrahedron_image() {
   return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWithVolume);
 }
 
+// One triangle of a 2-D model (its three edges and its area force) with its apex pressed to
+// 70 % of its height.
+CoreImage squashed_triangle_image() {
+  Model m;
+  m.dim = 2;
+  m.floor = false;
+  m.gravity = Vec3::Zero();
+  m.materials = {soft_material()};
+  m.x0 = {Vec3(0.0, 0.0, 0.5), Vec3(1.0, 0.0, 0.5), Vec3(0.0, 0.0, 1.5)};
+  m.mass.assign(3, 100.0);
+  m.flags.assign(3, kFree);
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a + 1; b < 3; ++b) {
+      Edge e;
+      e.s = a;
+      e.e = b;
+      e.l0 = e.L = (m.x0[b] - m.x0[a]).norm();
+      m.edges.push_back(e);
+    }
+  }
+  m.triangles = {{0, 1, 2}};
+  m.volume.enabled = true;
+  m.volume.kv = 100.0;
+  m.size = 1.0;
+  m.height = 1.5;
+  State s = initial_state(m);
+  s.x[2].z() = 1.2;
+  return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWithVolume);
+}
+
 // The element's coefficient (the second half's L word) times two.
 void double_volume_coefficient(CoreImage& img) {
   for (hls::EdgeEntry& e : img.edges) {
@@ -440,6 +470,21 @@ TEST(VolumeLimit, AForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
   const bool reached = raise_until_flag(img, 40, double_volume_coefficient,
                                             hls::kStatusVolumeSaturated);
   ASSERT_TRUE(reached) << "the element's force never left its word";
+  const StepResult golden = expect_step_matches(img);
+  EXPECT_TRUE(golden.flags & hls::kStatusVolumeSaturated) << describe_status_flags(golden.flags);
+}
+
+TEST(VolumeLimit, ATriangleInsideItsRangeRaisesNoFlagOnEitherModel) {
+  const StepResult golden = expect_step_matches(squashed_triangle_image());
+  EXPECT_EQ(golden.flags, 0u) << describe_status_flags(golden.flags);
+  EXPECT_GT(golden.state[2 * 6 + 5], 0) << "the squashed triangle pushes its apex up (+z)";
+}
+
+TEST(VolumeLimit, ATriangleForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = squashed_triangle_image();
+  const bool reached = raise_until_flag(img, 40, double_volume_coefficient,
+                                            hls::kStatusVolumeSaturated);
+  ASSERT_TRUE(reached) << "the triangle's force never left its word";
   const StepResult golden = expect_step_matches(img);
   EXPECT_TRUE(golden.flags & hls::kStatusVolumeSaturated) << describe_status_flags(golden.flags);
 }
