@@ -389,18 +389,23 @@ TEST(EveryEffectLimit, ArmForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
   EXPECT_TRUE(golden.flags & hls::kStatusTemSaturated) << describe_status_flags(golden.flags);
 }
 
-// One tetrahedron (its six edges and its volume force) with its apex pressed to 70 % of its
-// height, on the core with volume elements.
-CoreImage squashed_tetrahedron_image() {
+// One tetrahedron (dim 3: its six edges and its volume force) or one triangle of a 2-D
+// model (dim 2: its three edges and its area force) with its apex, the last vertex, pressed
+// to 70 % of its height, on the core with volume elements.
+CoreImage squashed_element_image(int dim) {
   Model m;
+  m.dim = dim;
   m.floor = false;
   m.gravity = Vec3::Zero();
   m.materials = {soft_material()};
-  m.x0 = {Vec3(0.0, 0.0, 0.5), Vec3(1.0, 0.0, 0.5), Vec3(0.0, 1.0, 0.5), Vec3(0.0, 0.0, 1.5)};
-  m.mass.assign(4, 100.0);
-  m.flags.assign(4, kFree);
-  for (int a = 0; a < 4; ++a) {
-    for (int b = a + 1; b < 4; ++b) {
+  m.x0 = {Vec3(0.0, 0.0, 0.5), Vec3(1.0, 0.0, 0.5)};
+  if (dim == 3) m.x0.push_back(Vec3(0.0, 1.0, 0.5));
+  m.x0.push_back(Vec3(0.0, 0.0, 1.5));
+  const int n = dim + 1;
+  m.mass.assign(std::size_t(n), 100.0);
+  m.flags.assign(std::size_t(n), kFree);
+  for (int a = 0; a < n; ++a) {
+    for (int b = a + 1; b < n; ++b) {
       Edge e;
       e.s = a;
       e.e = b;
@@ -408,43 +413,14 @@ CoreImage squashed_tetrahedron_image() {
       m.edges.push_back(e);
     }
   }
-  m.tetrahedra = {{0, 1, 2, 3}};
+  if (dim == 3) m.tetrahedra = {{0, 1, 2, 3}};
+  else m.triangles = {{0, 1, 2}};
   m.volume.enabled = true;
   m.volume.kv = 100.0;
   m.size = 1.0;
   m.height = 1.5;
   State s = initial_state(m);
-  s.x[3].z() = 1.2;
-  return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWithVolume);
-}
-
-// One triangle of a 2-D model (its three edges and its area force) with its apex pressed to
-// 70 % of its height.
-CoreImage squashed_triangle_image() {
-  Model m;
-  m.dim = 2;
-  m.floor = false;
-  m.gravity = Vec3::Zero();
-  m.materials = {soft_material()};
-  m.x0 = {Vec3(0.0, 0.0, 0.5), Vec3(1.0, 0.0, 0.5), Vec3(0.0, 0.0, 1.5)};
-  m.mass.assign(3, 100.0);
-  m.flags.assign(3, kFree);
-  for (int a = 0; a < 3; ++a) {
-    for (int b = a + 1; b < 3; ++b) {
-      Edge e;
-      e.s = a;
-      e.e = b;
-      e.l0 = e.L = (m.x0[b] - m.x0[a]).norm();
-      m.edges.push_back(e);
-    }
-  }
-  m.triangles = {{0, 1, 2}};
-  m.volume.enabled = true;
-  m.volume.kv = 100.0;
-  m.size = 1.0;
-  m.height = 1.5;
-  State s = initial_state(m);
-  s.x[2].z() = 1.2;
+  s.x[std::size_t(dim)].z() = 1.2;
   return make_core_image(m, s, 1e-4, 1, FormatDesc{}, hls::kThreeElementWithVolume);
 }
 
@@ -459,14 +435,22 @@ void double_volume_coefficient(CoreImage& img) {
   }
 }
 
-TEST(VolumeLimit, AnElementInsideItsRangeRaisesNoFlagOnEitherModel) {
-  const StepResult golden = expect_step_matches(squashed_tetrahedron_image());
+// A squashed tetrahedron (3-D) and a squashed triangle (2-D).
+struct SquashedElement {
+  const char* name;
+  int dim;
+};
+class VolumeLimit : public ::testing::TestWithParam<SquashedElement> {};
+
+TEST_P(VolumeLimit, AnElementInsideItsRangeRaisesNoFlagOnEitherModel) {
+  const StepResult golden = expect_step_matches(squashed_element_image(GetParam().dim));
   EXPECT_EQ(golden.flags, 0u) << describe_status_flags(golden.flags);
-  EXPECT_GT(golden.state[3 * 6 + 5], 0) << "the squashed element pushes its apex up (+z)";
+  EXPECT_GT(golden.state[std::size_t(GetParam().dim) * 6 + 5], 0)
+      << "the squashed element pushes its apex up (+z)";
 }
 
-TEST(VolumeLimit, AForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
-  CoreImage img = squashed_tetrahedron_image();
+TEST_P(VolumeLimit, AForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
+  CoreImage img = squashed_element_image(GetParam().dim);
   const bool reached = raise_until_flag(img, 40, double_volume_coefficient,
                                             hls::kStatusVolumeSaturated);
   ASSERT_TRUE(reached) << "the element's force never left its word";
@@ -474,20 +458,12 @@ TEST(VolumeLimit, AForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
   EXPECT_TRUE(golden.flags & hls::kStatusVolumeSaturated) << describe_status_flags(golden.flags);
 }
 
-TEST(VolumeLimit, ATriangleInsideItsRangeRaisesNoFlagOnEitherModel) {
-  const StepResult golden = expect_step_matches(squashed_triangle_image());
-  EXPECT_EQ(golden.flags, 0u) << describe_status_flags(golden.flags);
-  EXPECT_GT(golden.state[2 * 6 + 5], 0) << "the squashed triangle pushes its apex up (+z)";
-}
-
-TEST(VolumeLimit, ATriangleForceBeyondTheWordSaturatesAndRtlAndBitTrueAgree) {
-  CoreImage img = squashed_triangle_image();
-  const bool reached = raise_until_flag(img, 40, double_volume_coefficient,
-                                            hls::kStatusVolumeSaturated);
-  ASSERT_TRUE(reached) << "the triangle's force never left its word";
-  const StepResult golden = expect_step_matches(img);
-  EXPECT_TRUE(golden.flags & hls::kStatusVolumeSaturated) << describe_status_flags(golden.flags);
-}
+INSTANTIATE_TEST_SUITE_P(
+    Elements, VolumeLimit,
+    ::testing::Values(SquashedElement{"tetrahedron", 3}, SquashedElement{"triangle", 2}),
+    [](const ::testing::TestParamInfo<SquashedElement>& info) {
+      return std::string(info.param.name);
+    });
 
 // `pairs` plate particles at z = 0.5 m, each hanging from a fixed anchor 0.25 m above by a
 // stretched edge: each is pulled up through the plate (at 0.5 m), held by it, and adds
