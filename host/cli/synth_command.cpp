@@ -105,6 +105,12 @@ json critical_path_json(const synth::CriticalPath& c, const synth::PathTiming& t
 }
 
 json result_json(const synth::SynthResult& s) {
+  json corners = json::array();
+  for (const synth::TimingCorner& c : s.corners)
+    corners.push_back({{"cell_delay_factor", c.cell_factor},
+                       {"net_delay_factor", c.net_factor},
+                       {"fmax_mhz", c.fmax_mhz},
+                       {"limited_by", c.limited_by}});
   return {{"top", s.spec.top},
           {"sources", s.spec.sources},
           {"parameters", s.spec.params},
@@ -118,6 +124,7 @@ json result_json(const synth::SynthResult& s) {
             {"priced_limited_by", s.ltp_timing.limited_by}}},
           {"critical_path", critical_path_json(s.critical, s.timing)},
           {"estimated_fmax_mhz", s.timing.fmax_mhz},
+          {"sensitivity_corners", corners},
           {"edif", s.edif.filename().string()}};
 }
 
@@ -417,7 +424,16 @@ void run(const Options& opt) {
   perf["paper_comparison_rule"] =
       "a time is compared with a 2003 figure only for the model size that figure was measured "
       "on: block5 (5x5x5) with the paper's PC, block15 (15x15x16) with the paper's FPGA";
+  // The clock at each corner of the sensitivity table: the slowest design at that corner.
+  const std::vector<std::pair<double, double>> factors = synth::sensitivity_factors();
+  std::vector<double> corner_clock(factors.size(), 1e9);
+  for (const auto& [label, r] : results)
+    for (std::size_t k = 0; k < factors.size() && k < r.corners.size(); ++k)
+      corner_clock[k] = std::min(corner_clock[k], r.corners[k].fmax_mhz);
+  const double slow_clock = *std::min_element(corner_clock.begin(), corner_clock.end());
+  const double fast_clock = *std::max_element(corner_clock.begin(), corner_clock.end());
   json rows = json::array();
+  std::vector<std::pair<std::string, long long>> step_cycles;
   for (const std::string name : {"block5", "block15"}) {
     const Scenario scenario = load_scenario(name);
     const Model model = scenario.build_model();
@@ -427,6 +443,7 @@ void run(const Options& opt) {
     const int ramb16 = synth::estimate_core_ramb16(
         {size.particles, static_cast<int>(sched_rows * lanes_used)}, lanes_used);
     const double step_us = cycles / clock_mhz;
+    step_cycles.emplace_back(name, cycles);
     const double edge_rate = size.edges / (step_us * 1e-6);
     json row = {{"scenario", name},
                 {"particles", size.particles},
@@ -437,6 +454,7 @@ void run(const Options& opt) {
                 {"state_fits_on_chip", ramb16 <= synth::Device{}.ramb16},
                 {"cycles_per_step", cycles},
                 {"estimated_us_per_step", step_us},
+                {"estimated_us_per_step_range", {cycles / fast_clock, cycles / slow_clock}},
                 {"edge_updates_per_s", edge_rate},
                 {"fraction_of_multiplier_peak",
                  peak_edges_per_s > 0 ? json(edge_rate / peak_edges_per_s) : json(nullptr)}};
@@ -472,6 +490,31 @@ void run(const Options& opt) {
     rows.push_back(row);
   }
   perf["scenarios"] = rows;
+
+  // Sensitivity: every cell delay and the net delay each at 70 %, 100 % and 130 % of the
+  // model's figures (docs/synthesis.md §2): the clock and the time per step at each corner.
+  json corners = json::array();
+  std::cout << "sensitivity (cells x nets -> clock; us per step at L=" << lanes_used << "):\n";
+  for (std::size_t k = 0; k < factors.size(); ++k) {
+    json c = {{"cell_delay_factor", factors[k].first},
+              {"net_delay_factor", factors[k].second},
+              {"clock_mhz", corner_clock[k]}};
+    std::cout << "  cells x" << std::setprecision(1) << factors[k].first << " nets x"
+              << factors[k].second << ": " << std::setprecision(1) << corner_clock[k] << " MHz";
+    for (const auto& [name, cycles] : step_cycles) {
+      c["us_per_step"][name] = cycles / corner_clock[k];
+      std::cout << ", " << name << " " << std::setprecision(2) << cycles / corner_clock[k] << " us";
+    }
+    std::cout << "\n";
+    corners.push_back(c);
+  }
+  perf["sensitivity"] = {
+      {"corners", corners},
+      {"method",
+       "static timing of each synthesised netlist again with every cell figure (T_CKO, "
+       "T_DICK, T_ILO, carry, wide mux, T_MULT, T_BCKO) and the routed-net delay T_NET "
+       "scaled by 0.7, 1.0 and 1.3 independently; the clock at a corner is the slowest "
+       "design's"}};
 
   // The largest block whose state the analytic model fits in the device's block RAM at
   // the lane count used (26-neighbour lattices n x n x n, as the built-in blocks).

@@ -52,4 +52,12 @@ PathTiming estimate_timing(const LongestPath& path, const Resources& resources,
   return t;
 }
 
+std::vector<std::pair<double, double>> sensitivity_factors() {
+  std::vector<std::pair<double, double>> f = {{1.0, 1.0}};
+  for (double cells : {0.7, 1.0, 1.3})
+    for (double nets : {0.7, 1.0, 1.3})
+      if (cells != 1.0 || nets != 1.0) f.emplace_back(cells, nets);
+  return f;
+}
+
 }  // namespace rheo::synth

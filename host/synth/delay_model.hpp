@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/synth/synth_report.hpp"
@@ -50,7 +51,29 @@ struct Virtex2Delays {
     return {clock_to_out,      setup, lut, carry_bit, carry_sum, wide_mux, multiplier,
             bram_clock_to_out, route};
   }
+
+  // Every cell figure (all but T_NET) times cell_factor and T_NET times net_factor: the
+  // corners of the sensitivity table (`rheo synth`, docs/synthesis.md §2).
+  Virtex2Delays scaled(double cell_factor, double net_factor) const {
+    Virtex2Delays d = *this;
+    for (DelayFigure* f : {&d.clock_to_out, &d.setup, &d.lut, &d.carry_bit, &d.carry_sum,
+                           &d.wide_mux, &d.multiplier, &d.bram_clock_to_out})
+      f->ns *= cell_factor;
+    d.route.ns *= net_factor;
+    return d;
+  }
 };
+
+// One corner of the sensitivity table: the delay factors and the clock they give.
+struct TimingCorner {
+  double cell_factor = 1.0, net_factor = 1.0;
+  double fmax_mhz = 0.0;
+  std::string limited_by;
+};
+
+// The factors of the sensitivity table: cell and net delays each at 70 %, 100 % and 130 %
+// of the model's figures (nominal first).
+std::vector<std::pair<double, double>> sensitivity_factors();
 
 struct PathTiming {
   double logic_ns = 0.0;    // cell delays on the path

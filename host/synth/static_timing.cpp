@@ -99,14 +99,46 @@ std::string rtl_source(const json& cell) {
   return out;
 }
 
+// The parsed netlist: cells and the driver of every net bit, timed once per delay set.
+struct Netlist {
+  std::string file, top;
+  json doc;
+  const json* module = nullptr;
+  std::vector<Cell> cells;
+  std::unordered_map<int, int> driver_of;  // net bit -> cell index or kPort
+  std::vector<std::pair<std::string, int>> output_ports;  // (port name, net bit)
+};
+
+Netlist read_netlist(const std::filesystem::path& netlist_json, const std::string& top);
+CriticalPath time_netlist(Netlist& n, const Virtex2Delays& delays);
+
 }  // namespace
 
 CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const std::string& top,
                              const Virtex2Delays& delays) {
-  const std::string file = netlist_json.string();
+  Netlist n = read_netlist(netlist_json, top);
+  return time_netlist(n, delays);
+}
+
+std::vector<CriticalPath> analyse_netlist(const std::filesystem::path& netlist_json,
+                                          const std::string& top,
+                                          const std::vector<Virtex2Delays>& delay_sets) {
+  Netlist n = read_netlist(netlist_json, top);
+  std::vector<CriticalPath> out;
+  for (const Virtex2Delays& d : delay_sets) out.push_back(time_netlist(n, d));
+  return out;
+}
+
+namespace {
+
+Netlist read_netlist(const std::filesystem::path& netlist_json, const std::string& top) {
+  Netlist n;
+  n.file = netlist_json.string();
+  n.top = top;
+  const std::string& file = n.file;
   std::ifstream in(netlist_json);
   if (!in) throw Error(file + ": cannot open the netlist");
-  json doc;
+  json& doc = n.doc;
   try {
     doc = json::parse(in);
   } catch (const json::parse_error& e) {
@@ -116,7 +148,8 @@ CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const st
     throw Error(file + ": field modules/" + top + " missing; expected the write_json netlist of " +
                 top);
   }
-  const json& module = doc["modules"][top];
+  n.module = &doc["modules"][top];
+  const json& module = *n.module;
   for (const char* field : {"ports", "cells"}) {
     if (!module.contains(field) || !module[field].is_object()) {
       throw Error(file + ": field modules/" + top + "/" + field + " missing or not an object");
@@ -124,9 +157,9 @@ CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const st
   }
 
   // Cells and the driver of every net bit.
-  std::vector<Cell> cells;
-  std::unordered_map<int, int> driver_of;  // net bit -> cell index or kPort
-  std::vector<std::pair<std::string, int>> output_ports;  // (port name, net bit)
+  std::vector<Cell>& cells = n.cells;
+  std::unordered_map<int, int>& driver_of = n.driver_of;
+  std::vector<std::pair<std::string, int>>& output_ports = n.output_ports;
   for (const auto& [name, port] : module["ports"].items()) {
     const std::string dir = port.value("direction", "");
     for (const json& bit : port.at("bits")) {
@@ -143,7 +176,7 @@ CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const st
     Cell cell;
     cell.name = name;
     cell.type = c["type"].get<std::string>();
-    cell.cls = classify(cell.type, delays, where);
+    cell.cls = classify(cell.type, Virtex2Delays{}, where);  // the kind; delays per set
     const int index = static_cast<int>(cells.size());
     for (const auto& [pin, bits] : c["connections"].items()) {
       const std::string dir = c["port_directions"].value(pin, "");
@@ -160,6 +193,17 @@ CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const st
     }
     cells.push_back(std::move(cell));
   }
+  return n;
+}
+
+CriticalPath time_netlist(Netlist& n, const Virtex2Delays& delays) {
+  const std::string& file = n.file;
+  const std::string& top = n.top;
+  const json& module = *n.module;
+  std::vector<Cell>& cells = n.cells;
+  const std::unordered_map<int, int>& driver_of = n.driver_of;
+  const std::vector<std::pair<std::string, int>>& output_ports = n.output_ports;
+  for (Cell& cell : cells) cell.cls = classify(cell.type, delays, file + ": cell " + cell.name);
 
   auto driver_type = [&](int bit) -> std::string {
     const auto it = driver_of.find(bit);
@@ -327,6 +371,8 @@ CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const st
   path.timed_cells = static_cast<int>(timed + (cells.size() - combinational));
   return path;
 }
+
+}  // namespace
 
 PathTiming timing_of(const CriticalPath& path) {
   PathTiming t;

@@ -48,6 +48,12 @@ struct CriticalPath {
 CriticalPath analyse_netlist(const std::filesystem::path& netlist_json, const std::string& top,
                              const Virtex2Delays& delays = {});
 
+// The same for several delay sets (e.g. the sensitivity corners of Virtex2Delays::scaled),
+// reading the netlist once: one critical path per set, in order.
+std::vector<CriticalPath> analyse_netlist(const std::filesystem::path& netlist_json,
+                                          const std::string& top,
+                                          const std::vector<Virtex2Delays>& delay_sets);
+
 // PathTiming (period, clock) from the critical path, for synth.json.
 PathTiming timing_of(const CriticalPath& path);
 

@@ -81,8 +81,18 @@ SynthResult run_synthesis(const DesignSpec& spec, const YosysSetup& setup,
   result.resources = parse_stat_json(prefix.string() + ".stat.json", spec.top);
   result.path = parse_longest_path(prefix.string() + ".ltp.txt", prefix.string() + ".cells.txt");
   result.ltp_timing = estimate_timing(result.path, result.resources);
-  result.critical = analyse_netlist(prefix.string() + ".netlist.json", spec.top);
+  // The nominal delays and the sensitivity corners, from one read of the netlist.
+  std::vector<Virtex2Delays> sets;
+  const std::vector<std::pair<double, double>> factors = sensitivity_factors();
+  for (const auto& [cells, nets] : factors) sets.push_back(Virtex2Delays{}.scaled(cells, nets));
+  const std::vector<CriticalPath> paths =
+      analyse_netlist(prefix.string() + ".netlist.json", spec.top, sets);
+  result.critical = paths.front();
   result.timing = timing_of(result.critical);
+  for (std::size_t k = 0; k < paths.size(); ++k) {
+    const PathTiming t = timing_of(paths[k]);
+    result.corners.push_back({factors[k].first, factors[k].second, t.fmax_mhz, t.limited_by});
+  }
   return result;
 }
 

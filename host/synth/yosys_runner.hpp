@@ -25,6 +25,7 @@ struct SynthResult {
   PathTiming ltp_timing;    // that path priced alone (the earlier estimate, for comparison)
   CriticalPath critical;    // static timing of every path (static_timing.hpp)
   PathTiming timing;        // the estimate: from the critical path
+  std::vector<TimingCorner> corners;  // the clock at each sensitivity_factors() corner
   double yosys_seconds = 0.0;  // wall time of the Yosys run
   std::filesystem::path edif;  // netlist for the vendor tools
   std::filesystem::path log;   // Yosys log (warnings and errors)

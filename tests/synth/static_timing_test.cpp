@@ -110,6 +110,42 @@ TEST(StaticTiming, ASlowShortPathBeatsALongCarryChain) {
   EXPECT_EQ(p.hops.front().cell, "m0");
 }
 
+// The sensitivity corners: each delay set is timed on its own, so the critical path can
+// change between corners. Path A (eight LUTs, nine routed nets) is mostly nets, path B
+// (two multipliers) mostly cells: B is the slower at nominal delays and with slow cells,
+// A with slow nets and fast cells.
+TEST(StaticTiming, EachSensitivityCornerFindsItsOwnCriticalPath) {
+  Netlist n;
+  n.ff("a0", 99, 10);
+  for (int i = 0; i < 8; ++i) n.cell("l" + std::to_string(i), "LUT4", {{"I0", 10 + i}}, {{"O", 11 + i}});
+  n.ff("a1", 18, 99);
+  n.ff("b0", 700, 701)
+      .cell("m1", "MULT18X18", {{"A", 701}, {"B", 701}}, {{"P", 702}})
+      .cell("m2", "MULT18X18", {{"A", 702}, {"B", 702}}, {{"P", 703}})
+      .ff("b1", 703, 700);
+  const std::vector<std::pair<double, double>> factors = {{1.0, 1.0}, {0.7, 1.3}, {1.3, 0.7}};
+  std::vector<Virtex2Delays> sets;
+  for (const auto& [cells, nets] : factors) sets.push_back(kD.scaled(cells, nets));
+  const std::vector<CriticalPath> p = analyse_netlist(n.write("rheo_sta_corners.json"), "top", sets);
+  ASSERT_EQ(p.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Virtex2Delays& d = sets[k];
+    const double a = d.clock_to_out.ns + 8 * d.lut.ns + 9 * d.route.ns + d.setup.ns;
+    const double b = d.clock_to_out.ns + 2 * d.multiplier.ns + 3 * d.route.ns + d.setup.ns;
+    EXPECT_NEAR(p[k].period_ns, std::max(a, b), kTolNs) << "corner " << k;
+    EXPECT_EQ(p[k].hops.front().cell, a > b ? "a0" : "b0") << "corner " << k;
+  }
+  EXPECT_EQ(p[0].hops.front().cell, "b0");
+  EXPECT_EQ(p[1].hops.front().cell, "a0");
+  EXPECT_EQ(p[2].hops.front().cell, "b0");
+  // The nominal set read once for three corners equals a single analysis.
+  EXPECT_NEAR(p[0].period_ns, analyse_netlist(n.write("rheo_sta_corners.json"), "top").period_ns,
+              kTolNs);
+  // Scaling every figure by one factor scales the period by it.
+  const CriticalPath slow = analyse_netlist(n.write("rheo_sta_corners.json"), "top", kD.scaled(1.3, 1.3));
+  EXPECT_NEAR(slow.period_ns, 1.3 * p[0].period_ns, 1e-9);
+}
+
 TEST(StaticTiming, BlockRamLaunchesAfterItsClockToOutAndDistributedRamReadsThroughAddress) {
   Netlist n;
   n.cell("bram", "RAMB16_S36", {{"CLK", 1}, {"ADDR", 700}, {"DI", 700}}, {{"DO", 701}})
