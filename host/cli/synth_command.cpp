@@ -487,6 +487,19 @@ void run(const Options& opt) {
                 << row["speedup_vs_paper_pc"].get<double>() << "x)";
     }
     std::cout << "\n";
+    // A time per step is only a result for a configuration that fits the chip.
+    const bool feasible = ramb16 <= synth::Device{}.ramb16;
+    row["feasible_on_one_xc2v6000"] = feasible;
+    if (!feasible) {
+      row["infeasible_because"] = "the state needs about " + std::to_string(ramb16) +
+                                  " RAMB16 (analytic memory model) against the chip's " +
+                                  std::to_string(synth::Device{}.ramb16);
+      std::cout << "perf: " << name << " is NOT feasible on one " << synth::Device{}.name
+                << " at L=" << lanes_used << ": " << row["infeasible_because"].get<std::string>()
+                << "; its time per step is an estimate for a design that does not fit\n";
+      warn(name + " does not fit one " + synth::Device{}.name + " at " +
+           std::to_string(lanes_used) + " lanes: " + row["infeasible_because"].get<std::string>());
+    }
     rows.push_back(row);
   }
   perf["scenarios"] = rows;

@@ -37,7 +37,7 @@ std::string CosimMismatch::describe() const {
 
 CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   if (opt.steps < 1) throw Error("cosim: steps must be at least 1");
-  if (opt.compare_every < 1) throw Error("cosim: compare_every must be at least 1");
+  if (opt.compare_every < 0) throw Error("cosim: compare_every must be 0 (automatic) or more");
   CosimResult res;
   // The model every side runs: without what the core's edge element does not compute
   // (listed). The backends choose their core variant from it.
@@ -95,8 +95,16 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   };
 
   long step = 0;
+  const bool automatic = opt.compare_every == 0;
+  res.compare_every = automatic ? 1 : opt.compare_every;
   while (step < opt.steps) {
-    const long batch = std::min<long>(opt.compare_every, opt.steps - step);
+    const long batch = std::min<long>(res.compare_every, opt.steps - step);
+    // Simulated cycles so far (automatic K; 0 with a core that has no clock).
+    auto sim_cycles_now = [&]() -> std::uint64_t {
+      const std::optional<backend::CoreClock> c = dut->clock();
+      return c ? c->sim_cycles : 0;
+    };
+    const std::uint64_t before_run = automatic ? sim_cycles_now() : 0;
     const bool traced = !opt.trace_fst.empty() && (opt.trace_steps == 0 || step < opt.trace_steps);
     dut->set_tracing(traced);
     std::vector<double> plate_z(batch);
@@ -113,7 +121,18 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     }
     step += batch;
     // Every particle position and velocity of the core under test against the golden core.
+    const std::uint64_t after_run = automatic ? sim_cycles_now() : 0;
     const State s_dut = dut->state();
+    const std::uint64_t after_read = automatic ? sim_cycles_now() : 0;
+    if (automatic && step == batch) {
+      // The first comparison sets K from what one step and one read-back cost.
+      if (after_run > before_run) {
+        res.step_cycles = (after_run - before_run) / std::uint64_t(batch);
+        res.readback_cycles = after_read - after_run;
+        res.compare_every = static_cast<int>(std::clamp<std::uint64_t>(
+            (res.readback_cycles + res.step_cycles - 1) / res.step_cycles, 1, 1u << 20));
+      }
+    }
     const State s_golden = golden->state();
     for (int i = 0; i < np; ++i) {
       for (int f = 0; f < 6; ++f) {

@@ -23,7 +23,11 @@ struct CosimOptions {
   std::string golden = "bittrue";   // and of the core it must equal word for word
   std::string trace_fst;            // empty: no waveform (rtl)
   long trace_steps = 100;           // waveform covers the first N steps (0: the whole run)
-  int compare_every = 1;            // read and compare the particle state every K steps
+  // Read and compare the particle state every K steps (the plate force: every step).
+  // 0: automatic, after the first step: K = ceil(read-back cycles / one step's cycles), so
+  // that reading back takes no more simulated cycles than the steps between two reads (a
+  // core without a clock: every step).
+  int compare_every = 1;
   double input_idle_prob = 0.0;     // random idle cycles on s_axis (rtl)
   double output_stall_prob = 0.0;   // random back-pressure on m_axis (rtl)
   std::uint64_t seed = 1;
@@ -56,6 +60,9 @@ struct CosimResult {
   long cycles_per_step_formula = 0;
   double sim_cycles_per_s = 0.0;
   std::uint64_t sim_cycles = 0;
+  int compare_every = 1;              // the K the run used (chosen, with compare_every = 0)
+  std::uint64_t readback_cycles = 0;  // automatic K: simulated cycles of one state read-back
+  std::uint64_t step_cycles = 0;      // and of the first step (stream words included)
   int particles = 0, edges = 0, edge_rows = 0, lanes = 0;
   double length_unit_m = 0.0, force_unit_N = 0.0, dt_s = 0.0;
   std::string dut_name, golden_name;  // what ran (Backend::name)
