@@ -26,7 +26,7 @@ constexpr double kCycleFormulaTolerance = 0.02;
 constexpr double kMaxPositionErrorRel = 1e-3;
 // The plate-force word is compared every step; the 750 particle state words every 5th
 // step, which keeps the read-back clocks (2 per word) from dominating the test time.
-// `rheo cosim` compares the state at every step by default.
+// `rheo cosim` chooses K automatically by default (below).
 constexpr int kCompareStateEvery = 5;
 
 CosimResult expect_bit_exact(int lanes, long steps,
@@ -81,6 +81,31 @@ TEST(Cosim, Block5WithHoldWhilePushingIsBitExactWithTwoLanes) {
   EXPECT_LE(r.max_force_err_rel, 1e-3);
   EXPECT_EQ(zero_force_steps_before_release(r.force_fixed_N), 0);
   EXPECT_EQ(zero_force_steps_before_release(r.force_ref_N), 0);
+}
+
+// The automatic interval (CosimOptions::compare_every = 0, `rheo cosim`'s default): after
+// step 1 it measures one read-back and one step in simulated cycles and compares every
+// ceil(read-back / step) steps, and always after the last step.
+TEST(Cosim, TheAutomaticCompareIntervalFollowsTheReadBackCost) {
+  CosimOptions opt;
+  opt.steps = 23;
+  opt.lanes = 2;
+  opt.compare_every = 0;
+  opt.run_reference = false;
+  std::vector<long> compared;
+  opt.progress = [&compared](long step) { compared.push_back(step); };
+  const CosimResult r = run_cosim(load_scenario("block5"), opt);
+  EXPECT_EQ(r.mismatches, 0);
+  ASSERT_GT(r.step_cycles, 0u);
+  ASSERT_GT(r.readback_cycles, r.step_cycles) << "block5's read-back outweighs a step";
+  const long k = long((r.readback_cycles + r.step_cycles - 1) / r.step_cycles);
+  EXPECT_EQ(r.compare_every, k);
+  ASSERT_GE(compared.size(), 2u);
+  EXPECT_EQ(compared.front(), 1);
+  for (std::size_t i = 1; i + 1 < compared.size(); ++i)
+    EXPECT_EQ(compared[i] - compared[i - 1], k) << "comparison " << i;
+  EXPECT_EQ(compared.back(), 23);
+  RecordProperty("compare_every", std::to_string(r.compare_every));
 }
 
 }  // namespace
