@@ -26,8 +26,11 @@ TEST(SynthCli, ASubsetOfDesignsWarnsForEveryFigureItCannotComputeAndComparesOnly
   fs::remove_all(out);
 
   EXPECT_TRUE(j["fit"]["max_lanes_xc2v6000"].is_null()) << "no lane count without tem and mpm";
-  EXPECT_EQ(j["warnings"].size(), 3u) << j["warnings"].dump(2);
+  // Three figures it cannot compute, and block15, whose state does not fit the chip.
+  EXPECT_EQ(j["warnings"].size(), 4u) << j["warnings"].dump(2);
   EXPECT_NE(r.output.find("warning: lanes that fit"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("block15 is NOT feasible on one XC2V6000"), std::string::npos)
+      << r.output;
   EXPECT_TRUE(j["performance"]["peak_edge_updates_per_s"].is_null());
   for (const auto& row : j["performance"]["scenarios"]) {
     const std::string name = row["scenario"];
@@ -35,7 +38,16 @@ TEST(SynthCli, ASubsetOfDesignsWarnsForEveryFigureItCannotComputeAndComparesOnly
     EXPECT_EQ(row.contains("speedup_vs_paper_pc"), name == "block5") << name;
     EXPECT_EQ(row.contains("speedup_vs_paper_fpga"), name == "block15") << name;
     EXPECT_TRUE(row["fraction_of_multiplier_peak"].is_null()) << name;
+    // A time per step is a range over the delay model's sensitivity corners, and a
+    // scenario whose state needs more block RAM than the chip has is not feasible.
+    const auto& range = row["estimated_us_per_step_range"];
+    EXPECT_LT(range[0].get<double>(), row["estimated_us_per_step"].get<double>()) << name;
+    EXPECT_GT(range[1].get<double>(), row["estimated_us_per_step"].get<double>()) << name;
+    EXPECT_EQ(row["feasible_on_one_xc2v6000"].get<bool>(),
+              row["ramb16_estimate"].get<int>() <= 144)
+        << name;
   }
+  EXPECT_EQ(j["performance"]["sensitivity"]["corners"].size(), 9u);
 }
 
 }  // namespace
