@@ -490,13 +490,29 @@ void run(const Options& opt) {
     // A time per step is only a result for a configuration that fits the chip.
     const bool feasible = ramb16 <= synth::Device{}.ramb16;
     row["feasible_on_one_xc2v6000"] = feasible;
+    const synth::Ramb16Breakdown b = synth::core_ramb16_breakdown(
+        {size.particles, static_cast<int>(sched_rows * lanes_used)}, lanes_used);
+    row["ramb16_by_memory"] = {{"x_and_p", b.position_velocity},
+                               {"x0", b.home_position},
+                               {"inverse_mass", b.inverse_mass},
+                               {"particle_flags", b.particle_flags},
+                               {"force_sums", b.force_sums},
+                               {"edge_record", b.edge_record},
+                               {"L", b.rest_length},
+                               {"d", b.voigt_length},
+                               {"edge_material", b.edge_material}};
     if (!feasible) {
       row["infeasible_because"] = "the state needs about " + std::to_string(ramb16) +
                                   " RAMB16 (analytic memory model) against the chip's " +
                                   std::to_string(synth::Device{}.ramb16);
       std::cout << "perf: " << name << " is NOT feasible on one " << synth::Device{}.name
                 << " at L=" << lanes_used << ": " << row["infeasible_because"].get<std::string>()
-                << "; its time per step is an estimate for a design that does not fit\n";
+                << "; its time per step is an estimate for a design that does not fit\n"
+                << "perf: " << name << " RAMB16 by memory: x and p " << b.position_velocity
+                << ", x0 " << b.home_position << ", 1/m " << b.inverse_mass << ", flags "
+                << b.particle_flags << ", force sums " << b.force_sums << "; edge record "
+                << b.edge_record << ", L " << b.rest_length << ", d " << b.voigt_length
+                << ", material " << b.edge_material << "\n";
       warn(name + " does not fit one " + synth::Device{}.name + " at " +
            std::to_string(lanes_used) + " lanes: " + row["infeasible_because"].get<std::string>());
     }

@@ -90,7 +90,7 @@ int ramb16_for_memory(long long depth, int width) {
   return static_cast<int>(best);
 }
 
-int estimate_core_ramb16(const Capacity& c, int lanes) {
+Ramb16Breakdown core_ramb16_breakdown(const Capacity& c, int lanes) {
   const int word = 32, coef = 24, flags = 2, material = 4, bank = 4;
   const int sum = 3 * (word + hls::kForceAccGuardBits);
   const long long bank_depth = ceil_div(c.particles, lanes);
@@ -98,15 +98,23 @@ int estimate_core_ramb16(const Capacity& c, int lanes) {
   int local_bits = 1;
   while ((1LL << local_bits) < bank_depth) ++local_bits;
   // Per bank: x and p (one memory per word: the host writes single words), x0, 1/m,
-  // flags, the start and end force sums.
-  const int per_bank = 9 * ramb16_for_memory(bank_depth, word) +
-                       ramb16_for_memory(bank_depth, coef) + ramb16_for_memory(bank_depth, flags) +
-                       2 * ramb16_for_memory(bank_depth, sum);
-  // Per lane: slot record {valid, end bank, end local, start local}, L, d, material.
-  const int per_lane = ramb16_for_memory(lane_depth, 1 + bank + 2 * local_bits) +
-                       2 * ramb16_for_memory(lane_depth, word) +
-                       ramb16_for_memory(lane_depth, material);
-  return lanes * (per_bank + per_lane);
+  // flags, the start and end force sums. Per lane: the slot record {valid, end bank, end
+  // local, start local}, L, d, material.
+  Ramb16Breakdown b;
+  b.position_velocity = lanes * 6 * ramb16_for_memory(bank_depth, word);
+  b.home_position = lanes * 3 * ramb16_for_memory(bank_depth, word);
+  b.inverse_mass = lanes * ramb16_for_memory(bank_depth, coef);
+  b.particle_flags = lanes * ramb16_for_memory(bank_depth, flags);
+  b.force_sums = lanes * 2 * ramb16_for_memory(bank_depth, sum);
+  b.edge_record = lanes * ramb16_for_memory(lane_depth, 1 + bank + 2 * local_bits);
+  b.rest_length = lanes * ramb16_for_memory(lane_depth, word);
+  b.voigt_length = lanes * ramb16_for_memory(lane_depth, word);
+  b.edge_material = lanes * ramb16_for_memory(lane_depth, material);
+  return b;
+}
+
+int estimate_core_ramb16(const Capacity& c, int lanes) {
+  return core_ramb16_breakdown(c, lanes).total();
 }
 
 }  // namespace rheo::synth

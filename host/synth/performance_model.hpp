@@ -72,4 +72,23 @@ struct Capacity {
 int ramb16_for_memory(long long depth, int width);
 int estimate_core_ramb16(const Capacity& c, int lanes);
 
+// The same estimate by memory, summed over the banks and lanes (what a state that does not
+// fit would have to give up): particle memories per bank, edge memories per lane.
+struct Ramb16Breakdown {
+  int position_velocity = 0;  // x and p, one memory per word (6)
+  int home_position = 0;      // x0 (3 words)
+  int inverse_mass = 0;       // 1/m coefficient
+  int particle_flags = 0;
+  int force_sums = 0;         // the start and end force sums (3 x 40 bits each)
+  int edge_record = 0;        // {valid, end bank, end local, start local}
+  int rest_length = 0;        // L
+  int voigt_length = 0;       // d
+  int edge_material = 0;
+  int total() const {
+    return position_velocity + home_position + inverse_mass + particle_flags + force_sums +
+           edge_record + rest_length + voigt_length + edge_material;
+  }
+};
+Ramb16Breakdown core_ramb16_breakdown(const Capacity& c, int lanes);
+
 }  // namespace rheo::synth

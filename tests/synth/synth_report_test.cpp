@@ -166,6 +166,17 @@ TEST(PerformanceModel, CoreBlockRamAtBlock5CapacityCountsEveryMemoryOnce) {
   // Two lanes halve every depth (nothing is copied): per bank the same 19 blocks at 64
   // deep, per lane the 1024-slot record (17 bits: 1), L and d (2 each), material (1).
   EXPECT_EQ(estimate_core_ramb16({128, 2048}, 2), 2 * (19 + 6));
+  // The same count by memory, as `rheo synth` reports it for a state that does not fit.
+  const Ramb16Breakdown b = core_ramb16_breakdown({128, 2048}, 1);
+  EXPECT_EQ(b.position_velocity, 6);
+  EXPECT_EQ(b.home_position, 3);
+  EXPECT_EQ(b.inverse_mass + b.particle_flags, 2);
+  EXPECT_EQ(b.force_sums, 8);
+  EXPECT_EQ(b.edge_record, 3);
+  EXPECT_EQ(b.rest_length, 4);
+  EXPECT_EQ(b.voigt_length, 4);
+  EXPECT_EQ(b.edge_material, 1);
+  EXPECT_EQ(b.total(), 31);
 }
 
 // The generated lattice has the built-in blocks' sizes (block15 is 15 x 15 x 16).
