@@ -5,9 +5,21 @@
 // computes the same quantities in fixed point, six and 2 Y times larger.
 #pragma once
 
+#include <cstddef>
 #include <type_traits>
 
+#include "sim/model.hpp"
+
 namespace rheo {
+
+// A model's mesh elements: triangles (dim 2) or tetrahedra (dim 3).
+inline std::size_t element_count(const Model& m) {
+  return m.dim == 2 ? m.triangles.size() : m.tetrahedra.size();
+}
+inline int element_vertex_count(const Model& m) { return m.dim == 2 ? 3 : 4; }
+inline int element_vertex(const Model& m, std::size_t element, int v) {
+  return m.dim == 2 ? m.triangles[element][v] : m.tetrahedra[element][v];
+}
 
 // Signed area in the x-z plane (dim 2, vertices p[0..2]) or signed volume (dim 3, p[0..3])
 // and, when grad is not null, its gradient with respect to each vertex.

@@ -24,17 +24,6 @@ constexpr double kRk4Radius = 2.5;
 // RK4's stability interval on the negative real axis (first-order relaxations of d, m).
 constexpr double kRk4RealAxis = 2.78;
 
-
-std::size_t element_count(const Model& m) {
-  return m.dim == 2 ? m.triangles.size() : m.tetrahedra.size();
-}
-
-int element_vertex_count(const Model& m) { return m.dim == 2 ? 3 : 4; }
-
-int element_vertex(const Model& m, std::size_t element, int v) {
-  return m.dim == 2 ? m.triangles[element][v] : m.tetrahedra[element][v];
-}
-
 // Geometry of a vertex against its opposite edge (2D, in the x-z plane) or face (3D):
 // unit normal n (unsigned orientation), signed distance along n and the weights of the
 // foot point on the edge/face vertices (they sum to 1 and reproduce the foot point, so the

@@ -34,9 +34,9 @@ class SieLoop {
           "expected a model from driver::hardware_model()");
     }
     if (model.volume.enabled) {
-      for (std::size_t el = 0; el < element_count(); ++el) {
+      for (std::size_t el = 0; el < element_count(model); ++el) {
         Vec3 p[4];
-        for (int k = 0; k < vertex_count(); ++k) p[k] = model.x0[vertex(el, k)];
+        for (int k = 0; k < element_vertex_count(model); ++k) p[k] = model.x0[element_vertex(model, el, k)];
         // As the reference computes it, in double.
         rest_volume_.push_back(static_cast<Real>(signed_measure<double>(model.dim, p, nullptr)));
       }
@@ -143,27 +143,19 @@ class SieLoop {
   }
 
  private:
-  std::size_t element_count() const {
-    return model_.dim == 2 ? model_.triangles.size() : model_.tetrahedra.size();
-  }
-  int vertex_count() const { return model_.dim == 2 ? 3 : 4; }
-  int vertex(std::size_t el, int k) const {
-    return model_.dim == 2 ? model_.triangles[el][k] : model_.tetrahedra[el][k];
-  }
-
   // The reference's volume (area) forces (Simulator::add_volume_forces) in Real: per
   // element p = -kv (V - V0) / |V0| and p dV/dx_k on its vertices.
   void add_volume_forces() {
     const Real kv = static_cast<Real>(model_.volume.kv);
-    const int nv = vertex_count();
+    const int nv = element_vertex_count(model_);
     for (std::size_t el = 0; el < rest_volume_.size(); ++el) {
       V p[4], grad[4];
-      for (int k = 0; k < nv; ++k) p[k] = x_[vertex(el, k)];
+      for (int k = 0; k < nv; ++k) p[k] = x_[element_vertex(model_, el, k)];
       const Real vol = signed_measure<Real>(model_.dim, p, grad);
       const Real rest = rest_volume_[el];
       const Real pressure = -kv * (vol - rest) / (rest < Real(0) ? -rest : rest);
       for (int k = 0; k < nv; ++k)
-        for (int c = 0; c < 3; ++c) f_[vertex(el, k)][c] += pressure * grad[k][c];
+        for (int c = 0; c < 3; ++c) f_[element_vertex(model_, el, k)][c] += pressure * grad[k][c];
     }
   }
 

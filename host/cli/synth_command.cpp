@@ -440,8 +440,11 @@ void run(const Options& opt) {
     const synth::ProblemSize size = synth::problem_size(name, model);
     const long long cycles = synth::cycles_per_step(size, lanes_used, cycle_model);
     const long long sched_rows = synth::edge_rows(size, lanes_used);
-    const int ramb16 = synth::estimate_core_ramb16(
+    const synth::Ramb16Breakdown ram = synth::core_ramb16_breakdown(
         {size.particles, static_cast<int>(sched_rows * lanes_used)}, lanes_used);
+    const int ramb16 = ram.total();
+    // A time per step is only a result for a configuration that fits the chip.
+    const bool feasible = ramb16 <= synth::Device{}.ramb16;
     const double step_us = cycles / clock_mhz;
     step_cycles.emplace_back(name, cycles);
     const double edge_rate = size.edges / (step_us * 1e-6);
@@ -451,7 +454,7 @@ void run(const Options& opt) {
                 {"edge_rows", sched_rows},
                 {"edge_bubbles", sched_rows * lanes_used - size.edges},
                 {"ramb16_estimate", ramb16},
-                {"state_fits_on_chip", ramb16 <= synth::Device{}.ramb16},
+                {"state_fits_on_chip", feasible},
                 {"cycles_per_step", cycles},
                 {"estimated_us_per_step", step_us},
                 {"estimated_us_per_step_range", {cycles / fast_clock, cycles / slow_clock}},
@@ -487,20 +490,10 @@ void run(const Options& opt) {
                 << row["speedup_vs_paper_pc"].get<double>() << "x)";
     }
     std::cout << "\n";
-    // A time per step is only a result for a configuration that fits the chip.
-    const bool feasible = ramb16 <= synth::Device{}.ramb16;
     row["feasible_on_one_xc2v6000"] = feasible;
-    const synth::Ramb16Breakdown b = synth::core_ramb16_breakdown(
-        {size.particles, static_cast<int>(sched_rows * lanes_used)}, lanes_used);
-    row["ramb16_by_memory"] = {{"x_and_p", b.position_velocity},
-                               {"x0", b.home_position},
-                               {"inverse_mass", b.inverse_mass},
-                               {"particle_flags", b.particle_flags},
-                               {"force_sums", b.force_sums},
-                               {"edge_record", b.edge_record},
-                               {"L", b.rest_length},
-                               {"d", b.voigt_length},
-                               {"edge_material", b.edge_material}};
+    json by_memory = json::object();
+    for (const auto& [memory, n] : ram.by_memory()) by_memory[memory] = n;
+    row["ramb16_by_memory"] = by_memory;
     if (!feasible) {
       row["infeasible_because"] = "the state needs about " + std::to_string(ramb16) +
                                   " RAMB16 (analytic memory model) against the chip's " +
@@ -508,11 +501,9 @@ void run(const Options& opt) {
       std::cout << "perf: " << name << " is NOT feasible on one " << synth::Device{}.name
                 << " at L=" << lanes_used << ": " << row["infeasible_because"].get<std::string>()
                 << "; its time per step is an estimate for a design that does not fit\n"
-                << "perf: " << name << " RAMB16 by memory: x and p " << b.position_velocity
-                << ", x0 " << b.home_position << ", 1/m " << b.inverse_mass << ", flags "
-                << b.particle_flags << ", force sums " << b.force_sums << "; edge record "
-                << b.edge_record << ", L " << b.rest_length << ", d " << b.voigt_length
-                << ", material " << b.edge_material << "\n";
+                << "perf: " << name << " RAMB16 by memory:";
+      for (const auto& [memory, n] : ram.by_memory()) std::cout << " " << memory << " " << n;
+      std::cout << "\n";
       warn(name + " does not fit one " + synth::Device{}.name + " at " +
            std::to_string(lanes_used) + " lanes: " + row["infeasible_because"].get<std::string>());
     }

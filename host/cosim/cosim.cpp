@@ -96,14 +96,14 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
 
   long step = 0;
   const bool automatic = opt.compare_every == 0;
+  // Simulated cycles so far (automatic K; 0 with a core that has no clock).
+  auto sim_cycles_now = [&]() -> std::uint64_t {
+    const std::optional<backend::CoreClock> c = dut->clock();
+    return c ? c->sim_cycles : 0;
+  };
   res.compare_every = automatic ? 1 : opt.compare_every;
   while (step < opt.steps) {
     const long batch = std::min<long>(res.compare_every, opt.steps - step);
-    // Simulated cycles so far (automatic K; 0 with a core that has no clock).
-    auto sim_cycles_now = [&]() -> std::uint64_t {
-      const std::optional<backend::CoreClock> c = dut->clock();
-      return c ? c->sim_cycles : 0;
-    };
     const std::uint64_t before_run = automatic ? sim_cycles_now() : 0;
     const bool traced = !opt.trace_fst.empty() && (opt.trace_steps == 0 || step < opt.trace_steps);
     dut->set_tracing(traced);

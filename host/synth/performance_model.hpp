@@ -84,9 +84,18 @@ struct Ramb16Breakdown {
   int rest_length = 0;        // L
   int voigt_length = 0;       // d
   int edge_material = 0;
+  // (name, RAMB16) per memory, in the order above: synth.json's keys and the console's.
+  std::vector<std::pair<std::string, int>> by_memory() const {
+    return {{"x_and_p", position_velocity}, {"x0", home_position},
+            {"inverse_mass", inverse_mass}, {"particle_flags", particle_flags},
+            {"force_sums", force_sums},     {"edge_record", edge_record},
+            {"L", rest_length},             {"d", voigt_length},
+            {"edge_material", edge_material}};
+  }
   int total() const {
-    return position_velocity + home_position + inverse_mass + particle_flags + force_sums +
-           edge_record + rest_length + voigt_length + edge_material;
+    int sum = 0;
+    for (const auto& [name, n] : by_memory()) sum += n;
+    return sum;
   }
 };
 Ramb16Breakdown core_ramb16_breakdown(const Capacity& c, int lanes);
