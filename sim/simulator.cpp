@@ -272,7 +272,7 @@ StepReport Simulator::step(double plate_z) {
       options_.integrator == Integrator::kRK4 ? step_rk4(plate_z) : step_sie(plate_z);
   ++steps_;
   state_.t += options_.dt;
-  check_finite();
+  check_finite_state(model_, state_, steps_);
   if (!std::isfinite(report.plate_force_N)) {
     throw Error("non-finite plate force at step " + std::to_string(steps_));
   }
@@ -396,25 +396,26 @@ StepReport Simulator::step_rk4(double plate_z) {
   return report;
 }
 
-void Simulator::check_finite() const {
-  auto fail = [this](const std::string& what) {
+void check_finite_state(const Model& model, const State& state, long long steps) {
+  auto fail = [&](const std::string& what) {
     std::ostringstream os;
-    os << "numerical failure at step " << steps_ << " (t = " << state_.t << " s): " << what
+    os << "numerical failure at step " << steps << " (t = " << state.t << " s): " << what
        << " is not finite (unstable dt or diverging model)";
     throw Error(os.str());
   };
-  for (int i = 0; i < model_.num_particles(); ++i) {
-    if (!state_.x[i].allFinite()) fail("position of particle " + std::to_string(i));
-    if (!state_.v[i].allFinite()) fail("velocity of particle " + std::to_string(i));
+  for (std::size_t i = 0; i < state.x.size(); ++i) {
+    if (!state.x[i].allFinite()) fail("position of particle " + std::to_string(i));
+    if (!state.v[i].allFinite()) fail("velocity of particle " + std::to_string(i));
   }
-  for (int k = 0; k < model_.num_edges(); ++k) {
-    if (!std::isfinite(state_.d[k])) fail("Voigt length d of edge " + std::to_string(k));
-    if (!std::isfinite(state_.m[k])) fail("Maxwell-arm extension of edge " + std::to_string(k));
+  for (std::size_t k = 0; k < state.d.size(); ++k) {
+    if (!std::isfinite(state.d[k])) fail("Voigt length d of edge " + std::to_string(k));
+    if (!std::isfinite(state.m[k])) fail("Maxwell-arm extension of edge " + std::to_string(k));
   }
-  for (std::size_t a = 0; a < state_.spectrum.size(); ++a) {
-    if (!std::isfinite(state_.spectrum[a])) {
-      fail("spectrum-arm extension " + std::to_string(a % spectrum_stride_) + " of edge " +
-           std::to_string(a / spectrum_stride_));
+  const int stride = spectrum_stride(model);
+  for (std::size_t a = 0; a < state.spectrum.size(); ++a) {
+    if (!std::isfinite(state.spectrum[a])) {
+      fail("spectrum-arm extension " + std::to_string(a % stride) + " of edge " +
+           std::to_string(a / stride));
     }
   }
 }

@@ -48,6 +48,12 @@ double max_stable_dt(const Model& model, Integrator integrator);
 // options.check_stability) exceeds max_stable_dt: every backend refuses the same steps.
 void check_time_step(const Model& model, const SimOptions& options);
 
+// Throws rheo::Error naming the first non-finite value of `state` (positions, velocities,
+// then per edge d and the arm extension, then the spectrum extensions) as a numerical
+// failure at step `steps`; returns when every value is finite. Every CPU path reports
+// failures with it.
+void check_finite_state(const Model& model, const State& state, long long steps);
+
 // One semi-implicit Euler step (the rule the hardware copies exactly):
 //  1. From the current state: internal forces F_i (edges, topology maintenance, volume),
 //     each edge's ddot, mdot and current length l.
@@ -126,7 +132,6 @@ class Simulator {
   // z_start is its height before the step, force_z the z force the plate reports.
   void apply_contacts(int i, double z_start, double plate_z, double force_z, StepReport* report);
   StepReport apply_constraints(double plate_z, const std::vector<Vec3>& f_start);
-  void check_finite() const;
 
   Model model_;
   SimOptions options_;

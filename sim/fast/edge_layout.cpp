@@ -1,0 +1,111 @@
+#include "sim/fast/edge_layout.hpp"
+
+#include <algorithm>
+#include <map>
+#include <sstream>
+#include <utility>
+
+namespace rheo::fast {
+namespace {
+
+// A group of edges sharing an index offset and a material becomes an implicit block when
+// at least this fraction of its slot range holds edges (the rest is padding the loop
+// computes and discards).
+constexpr double kMinimumFill = 0.5;
+
+int round_up(int n) { return (n + kSlotAlign - 1) / kSlotAlign * kSlotAlign; }
+
+}  // namespace
+
+EdgeLayout make_edge_layout(const Model& model) {
+  EdgeLayout layout;
+  // (offset, material) -> edges by their lower particle.
+  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> groups;
+  for (int k = 0; k < model.num_edges(); ++k) {
+    const Edge& e = model.edges[k];
+    const int lo = std::min(e.s, e.e), hi = std::max(e.s, e.e);
+    groups[{hi - lo, e.material}].push_back({lo, k});
+  }
+  // Indexed edges, by material: those of sparse groups and duplicates of a slot.
+  std::map<int, std::vector<int>> indexed;
+  auto add_slots = [&](int count) {
+    const int begin = layout.slots;
+    layout.slots += round_up(count);
+    layout.slot_edge.resize(layout.slots, -1);
+    layout.slot_lo.resize(layout.slots, 0);
+    layout.slot_hi.resize(layout.slots, 0);
+    return begin;
+  };
+  for (auto& [key, members] : groups) {
+    const auto [offset, material] = key;
+    std::sort(members.begin(), members.end());
+    const int first = members.front().first;
+    const int span = members.back().first - first + 1;
+    if (offset == 0 || static_cast<double>(members.size()) < kMinimumFill * span) {
+      for (const auto& m : members) indexed[material].push_back(m.second);
+      continue;
+    }
+    EdgeBlock block;
+    block.offset = offset;
+    block.first_particle = first;
+    block.material = material;
+    block.begin = add_slots(span);
+    block.end = layout.slots;
+    for (const auto& [lo, edge] : members) {
+      const int slot = block.begin + (lo - first);
+      if (layout.slot_edge[slot] >= 0) {  // a second edge between the same two particles
+        indexed[material].push_back(edge);
+        continue;
+      }
+      layout.slot_edge[slot] = edge;
+      ++block.edges;
+    }
+    // Padding slots name the particles the loop reads, so a slot's pair is always known.
+    for (int slot = block.begin; slot < block.end; ++slot) {
+      layout.slot_lo[slot] = first + (slot - block.begin);
+      layout.slot_hi[slot] = layout.slot_lo[slot] + offset;
+    }
+    layout.implicit_edges += block.edges;
+    layout.blocks.push_back(block);
+  }
+  for (auto& [material, edges] : indexed) {
+    std::sort(edges.begin(), edges.end());  // the model's order: its locality
+    EdgeBlock block;
+    block.material = material;
+    block.edges = static_cast<int>(edges.size());
+    block.begin = add_slots(block.edges);
+    block.end = layout.slots;
+    for (int i = 0; i < block.edges; ++i) {
+      const Edge& e = model.edges[edges[i]];
+      layout.slot_edge[block.begin + i] = edges[i];
+      layout.slot_lo[block.begin + i] = std::min(e.s, e.e);
+      layout.slot_hi[block.begin + i] = std::max(e.s, e.e);
+    }
+    layout.blocks.push_back(block);
+  }
+  return layout;
+}
+
+std::string EdgeLayout::describe() const {
+  int edges = 0, offsets = 0;
+  for (const EdgeBlock& b : blocks) {
+    edges += b.edges;
+    if (b.offset > 0) ++offsets;
+  }
+  std::ostringstream os;
+  if (implicit_edges == 0) {
+    os << "edge list: " << edges << " edges";
+    return os.str();
+  }
+  int implicit_slots = 0;
+  for (const EdgeBlock& b : blocks) {
+    if (b.offset > 0) implicit_slots += b.end - b.begin;
+  }
+  os << "implicit lattice topology: " << offsets << " index offsets, " << implicit_edges << " of "
+     << edges << " edges, " << (100 * implicit_edges + implicit_slots / 2) / implicit_slots
+     << " % of its slots used";
+  if (implicit_edges < edges) os << "; " << edges - implicit_edges << " in an edge list";
+  return os.str();
+}
+
+}  // namespace rheo::fast

@@ -1,0 +1,44 @@
+// A fixed set of threads that run one job together and return: the fast CPU path splits
+// each step's edge pass and particle pass across them (fast_simulator.hpp). A step takes
+// tens of microseconds, so the workers spin briefly for the next job before they sleep;
+// waking a sleeping thread costs more than a small model's whole step.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <thread>
+#include <vector>
+
+namespace rheo::fast {
+
+class WorkerPool {
+ public:
+  // `threads` >= 1 threads in all: the caller's own and threads - 1 workers.
+  explicit WorkerPool(int threads);
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  int size() const { return static_cast<int>(workers_.size()) + 1; }
+
+  // Runs job(t) for every t in [0, size()), t = 0 on the calling thread, and returns when
+  // all have finished. The job must not throw (it records failures for the caller).
+  void run(const std::function<void(int)>& job);
+
+ private:
+  void work(int index);
+
+  std::vector<std::thread> workers_;
+  const std::function<void(int)>* job_ = nullptr;
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<int> pending_{0};
+  std::atomic<bool> stop_{false};
+};
+
+// The thread count the fast path uses when asked for 0 ("auto"): one thread for small
+// models (a step of a few microseconds does not pay for waking a second thread), else
+// every hardware thread.
+int automatic_threads(int edges);
+
+}  // namespace rheo::fast
