@@ -3,24 +3,45 @@
 namespace rheo::bench {
 
 const std::vector<BenchModel>& bench_models() {
-  // Steps per repetition: about 0.2-1 s of this machine's time on the reference model, and
-  // at least one whole protocol run for block5 so a repetition includes a restart.
+  // Steps per repetition: about 0.2-1 s of this machine's time on the scalar reference
+  // model, and at least one whole protocol run for block5 so a repetition includes a restart.
   static const std::vector<BenchModel> models = {
       {"block5", 20000},
       {"block15", 2000},
+      {"lattice30", 200},
   };
   return models;
 }
 
-ScenarioLoop::ScenarioLoop(const std::string& scenario_name)
-    : scenario_(load_scenario(scenario_name)),
+Scenario bench_scenario(const std::string& name) {
+  if (name != "lattice30") return load_scenario(name);
+  Scenario sc = load_scenario("block15");
+  sc.name = name;
+  sc.description = "block15 grown to a 30 x 30 x 30 particle lattice at the same 5 mm spacing";
+  sc.block.nx = sc.block.ny = sc.block.nz = 30;
+  const double spacing = sc.block.sx / (15 - 1);
+  sc.block.sx = sc.block.sy = sc.block.sz = 29 * spacing;
+  return sc;
+}
+
+ScenarioLoop::ScenarioLoop(const std::string& scenario_name, CpuPath path)
+    : scenario_(bench_scenario(scenario_name)),
       model_(scenario_.build_model()),
-      sim_(model_, scenario_.options),
-      initial_(sim_.state()),
-      period_(scenario_.default_steps()) {}
+      initial_(initial_state(model_)),
+      period_(scenario_.default_steps()) {
+  if (path.fast) {
+    fast_ = std::make_unique<fast::FastSimulator>(model_, scenario_.options, path.threads);
+  } else {
+    scalar_ = std::make_unique<Simulator>(model_, scenario_.options);
+  }
+}
 
 void ScenarioLoop::restart() {
-  sim_.mutable_state() = initial_;
+  if (fast_) {
+    fast_->set_state(initial_);
+  } else {
+    scalar_->mutable_state() = initial_;
+  }
   step_ = 0;
 }
 
@@ -28,7 +49,8 @@ double ScenarioLoop::step() {
   if (at_end()) restart();
   ++step_;
   ++total_;
-  return sim_.step(scenario_.plate_z(model_, step_)).plate_force_N;
+  const double z = scenario_.plate_z(model_, step_);
+  return (fast_ ? fast_->step(z) : scalar_->step(z)).plate_force_N;
 }
 
 }  // namespace rheo::bench

@@ -11,9 +11,11 @@
 // cover, whatever number of steps the benchmark library chooses.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "sim/fast/fast_simulator.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
 
@@ -24,13 +26,25 @@ struct BenchModel {
   long long steps = 0;   // steps one benchmark repetition times
 };
 
-// The benchmark models and how many steps each benchmark repetition runs.
+// The benchmark models and how many steps each benchmark repetition runs: the built-in
+// block5 and block15, and lattice30, block15 grown to 30 x 30 x 30 particles (same
+// spacing, material, step and protocol; 27,000 particles).
 const std::vector<BenchModel>& bench_models();
+
+// A benchmark model's scenario by name (a built-in one, or lattice30).
+Scenario bench_scenario(const std::string& name);
+
+// Which CPU path steps the model: the scalar reference (rheo::Simulator) or the fast path
+// (rheo::fast::FastSimulator) with a thread count.
+struct CpuPath {
+  bool fast = false;
+  int threads = 1;
+};
 
 // Steps a scenario's protocol from rest, over and over (see above).
 class ScenarioLoop {
  public:
-  explicit ScenarioLoop(const std::string& scenario_name);
+  explicit ScenarioLoop(const std::string& scenario_name, CpuPath path = {});
 
   // One step of the scenario; restarts from rest first when the protocol has ended.
   // Returns the plate force [N]. Throws rheo::Error on a numerical failure.
@@ -49,7 +63,8 @@ class ScenarioLoop {
  private:
   Scenario scenario_;
   Model model_;
-  Simulator sim_;
+  std::unique_ptr<Simulator> scalar_;
+  std::unique_ptr<fast::FastSimulator> fast_;
   State initial_;
   long long period_ = 0;  // steps of one protocol run
   long long step_ = 0;    // steps since the last restart

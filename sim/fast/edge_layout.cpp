@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <sstream>
 #include <utility>
 
@@ -17,17 +18,35 @@ int round_up(int n) { return (n + kSlotAlign - 1) / kSlotAlign * kSlotAlign; }
 
 }  // namespace
 
-EdgeLayout make_edge_layout(const Model& model) {
-  EdgeLayout layout;
-  // (offset, material) -> edges by their lower particle.
-  std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> groups;
-  for (int k = 0; k < model.num_edges(); ++k) {
-    const Edge& e = model.edges[k];
-    const int lo = std::min(e.s, e.e), hi = std::max(e.s, e.e);
-    groups[{hi - lo, e.material}].push_back({lo, k});
+namespace {
+
+// Unused slots between two slabs' blocks: two 4 KiB pages of doubles, more than the
+// prefetchers run ahead.
+constexpr int kSlabGap = 1024;
+
+std::vector<int> cut_slabs(const Model& model, int slabs, int particles_padded) {
+  std::vector<double> work(particles_padded, 1.0);
+  for (const Edge& e : model.edges) work[std::min(e.s, e.e)] += 1.0;
+  double total = 0.0;
+  for (double w : work) total += w;
+  std::vector<int> cuts(1, 0);
+  double sum = 0.0;
+  int at = 0;
+  for (int s = 0; s + 1 < slabs; ++s) {
+    while (at < particles_padded && (sum < total * (s + 1) / slabs || at % kSlotAlign != 0)) {
+      sum += work[at++];
+    }
+    cuts.push_back(at);
   }
-  // Indexed edges, by material: those of sparse groups and duplicates of a slot.
-  std::map<int, std::vector<int>> indexed;
+  cuts.push_back(particles_padded);
+  return cuts;
+}
+
+}  // namespace
+
+EdgeLayout make_edge_layout(const Model& model, int slabs, int particles_padded) {
+  EdgeLayout layout;
+  layout.cuts = cut_slabs(model, slabs, particles_padded);
   auto add_slots = [&](int count) {
     const int begin = layout.slots;
     layout.slots += round_up(count);
@@ -36,61 +55,84 @@ EdgeLayout make_edge_layout(const Model& model) {
     layout.slot_hi.resize(layout.slots, 0);
     return begin;
   };
-  for (auto& [key, members] : groups) {
-    const auto [offset, material] = key;
-    std::sort(members.begin(), members.end());
-    const int first = members.front().first;
-    const int span = members.back().first - first + 1;
-    if (offset == 0 || static_cast<double>(members.size()) < kMinimumFill * span) {
-      for (const auto& m : members) indexed[material].push_back(m.second);
-      continue;
+  for (int slab = 0; slab < slabs; ++slab) {
+    if (slab > 0) add_slots(kSlabGap);
+    const int slab_begin = layout.cuts[slab], slab_end = layout.cuts[slab + 1];
+    const int first_block = static_cast<int>(layout.blocks.size());
+    // (offset, material) -> the slab's edges by their lower particle.
+    std::map<std::pair<int, int>, std::vector<std::pair<int, int>>> groups;
+    for (int k = 0; k < model.num_edges(); ++k) {
+      const Edge& e = model.edges[k];
+      const int lo = std::min(e.s, e.e), hi = std::max(e.s, e.e);
+      if (lo >= slab_begin && lo < slab_end) groups[{hi - lo, e.material}].push_back({lo, k});
     }
-    EdgeBlock block;
-    block.offset = offset;
-    block.first_particle = first;
-    block.material = material;
-    block.begin = add_slots(span);
-    block.end = layout.slots;
-    for (const auto& [lo, edge] : members) {
-      const int slot = block.begin + (lo - first);
-      if (layout.slot_edge[slot] >= 0) {  // a second edge between the same two particles
-        indexed[material].push_back(edge);
+    // Indexed edges, by material: those of sparse groups and duplicates of a slot.
+    std::map<int, std::vector<int>> indexed;
+    for (auto& [key, members] : groups) {
+      const auto [offset, material] = key;
+      std::sort(members.begin(), members.end());
+      // The first slot's particle is a multiple of kSlotAlign: every vector's start particles
+      // are then one aligned load (the end particles are as aligned as the offset).
+      const int first = members.front().first / kSlotAlign * kSlotAlign;
+      const int span = members.back().first - first + 1;
+      if (offset == 0 || static_cast<double>(members.size()) < kMinimumFill * span) {
+        for (const auto& m : members) indexed[material].push_back(m.second);
         continue;
       }
-      layout.slot_edge[slot] = edge;
-      ++block.edges;
+      EdgeBlock block;
+      block.offset = offset;
+      block.first_particle = first;
+      block.material = material;
+      block.begin = add_slots(span);
+      block.end = layout.slots;
+      for (const auto& [lo, edge] : members) {
+        const int slot = block.begin + (lo - first);
+        if (layout.slot_edge[slot] >= 0) {  // a second edge between the same two particles
+          indexed[material].push_back(edge);
+          continue;
+        }
+        layout.slot_edge[slot] = edge;
+        ++block.edges;
+      }
+      // Padding slots name the particles the loop reads, so a slot's pair is always known.
+      for (int slot = block.begin; slot < block.end; ++slot) {
+        layout.slot_lo[slot] = first + (slot - block.begin);
+        layout.slot_hi[slot] = layout.slot_lo[slot] + offset;
+      }
+      layout.implicit_edges += block.edges;
+      layout.blocks.push_back(block);
     }
-    // Padding slots name the particles the loop reads, so a slot's pair is always known.
-    for (int slot = block.begin; slot < block.end; ++slot) {
-      layout.slot_lo[slot] = first + (slot - block.begin);
-      layout.slot_hi[slot] = layout.slot_lo[slot] + offset;
+    for (auto& [material, edges] : indexed) {
+      std::sort(edges.begin(), edges.end());  // the model's order: its locality
+      EdgeBlock block;
+      block.material = material;
+      block.edges = static_cast<int>(edges.size());
+      block.begin = add_slots(block.edges);
+      block.end = layout.slots;
+      for (int i = 0; i < block.edges; ++i) {
+        const Edge& e = model.edges[edges[i]];
+        layout.slot_edge[block.begin + i] = edges[i];
+        layout.slot_lo[block.begin + i] = std::min(e.s, e.e);
+        layout.slot_hi[block.begin + i] = std::max(e.s, e.e);
+      }
+      // Padding slots read the block's first pair (any real particle would do).
+      for (int slot = block.begin + block.edges; slot < block.end; ++slot) {
+        layout.slot_lo[slot] = layout.slot_lo[block.begin];
+        layout.slot_hi[slot] = layout.slot_hi[block.begin];
+      }
+      layout.blocks.push_back(block);
     }
-    layout.implicit_edges += block.edges;
-    layout.blocks.push_back(block);
-  }
-  for (auto& [material, edges] : indexed) {
-    std::sort(edges.begin(), edges.end());  // the model's order: its locality
-    EdgeBlock block;
-    block.material = material;
-    block.edges = static_cast<int>(edges.size());
-    block.begin = add_slots(block.edges);
-    block.end = layout.slots;
-    for (int i = 0; i < block.edges; ++i) {
-      const Edge& e = model.edges[edges[i]];
-      layout.slot_edge[block.begin + i] = edges[i];
-      layout.slot_lo[block.begin + i] = std::min(e.s, e.e);
-      layout.slot_hi[block.begin + i] = std::max(e.s, e.e);
-    }
-    layout.blocks.push_back(block);
+    layout.slab_blocks.emplace_back(first_block, static_cast<int>(layout.blocks.size()));
   }
   return layout;
 }
 
 std::string EdgeLayout::describe() const {
-  int edges = 0, offsets = 0;
+  int edges = 0;
+  std::set<int> offsets;
   for (const EdgeBlock& b : blocks) {
     edges += b.edges;
-    if (b.offset > 0) ++offsets;
+    if (b.offset > 0) offsets.insert(b.offset);
   }
   std::ostringstream os;
   if (implicit_edges == 0) {
@@ -101,7 +143,7 @@ std::string EdgeLayout::describe() const {
   for (const EdgeBlock& b : blocks) {
     if (b.offset > 0) implicit_slots += b.end - b.begin;
   }
-  os << "implicit lattice topology: " << offsets << " index offsets, " << implicit_edges << " of "
+  os << "implicit lattice topology: " << offsets.size() << " index offsets, " << implicit_edges << " of "
      << edges << " edges, " << (100 * implicit_edges + implicit_slots / 2) / implicit_slots
      << " % of its slots used";
   if (implicit_edges < edges) os << "; " << edges - implicit_edges << " in an edge list";

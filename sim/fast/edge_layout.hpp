@@ -9,12 +9,20 @@
 // the loop masks out. A group that would be more than half padding, duplicate edges and
 // every edge of an irregular mesh go to indexed blocks instead: the general edge list, one
 // slot per edge with its two particle indices, read by vector gathers.
+//
+// Slabs: for a step split across threads, the particles are cut into contiguous ranges
+// (slabs, one per thread) and each slab's edges (those whose lower particle lies in it)
+// get blocks of their own, stored one slab after the other with a gap of unused slots
+// between them. A thread then streams through memory no other thread writes, and the
+// hardware prefetchers, which run a little past the end of a stream, do not pull the next
+// thread's lines over to its core.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/model.hpp"
@@ -54,6 +62,8 @@ struct EdgeBlock {
 
 struct EdgeLayout {
   std::vector<EdgeBlock> blocks;
+  std::vector<int> cuts;  // slab s holds particles [cuts[s], cuts[s + 1])
+  std::vector<std::pair<int, int>> slab_blocks;  // slab s sweeps blocks [first, second)
   int slots = 0;
   std::vector<int> slot_edge;               // the model's edge of each slot, -1 for padding
   AlignedVector<std::int64_t> slot_lo, slot_hi;  // its particles (the lower index first)
@@ -63,6 +73,8 @@ struct EdgeLayout {
   std::string describe() const;
 };
 
-EdgeLayout make_edge_layout(const Model& model);
+// `slabs` >= 1 slabs, cut where the work (a particle's update and the edges that start at
+// it) is even; the cuts are multiples of kSlotAlign and the last is `particles_padded`.
+EdgeLayout make_edge_layout(const Model& model, int slabs, int particles_padded);
 
 }  // namespace rheo::fast

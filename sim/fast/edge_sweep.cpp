@@ -38,29 +38,45 @@ bool Sweep(const SweepArgs& a) {
   const V minus_b = hn::Set(d, -mt.damper_b);
   const V a_min = hn::Set(d, m.a_min), a_max = hn::Set(d, m.a_max);
   const V k2 = hn::Set(d, m.k2), arm_rate = hn::Set(d, mt.arm_rate);
+  // Every pointer and bound in a local: Highway's stores may alias anything, so fields
+  // read through `a` would be read again after every store.
+  const double* const x[3] = {a.x[0], a.x[1], a.x[2]};
+  const double* const v[3] = {a.v[0], a.v[1], a.v[2]};
+  double* const f[3] = {a.f[0], a.f[1], a.f[2]};
+  double* const d_state = a.d;
+  const double* const rest = a.L;
+  const double* const rest_length = a.l0;
+  double* const arm_state = a.m;
+  double* const spectrum = a.spectrum;
+  const std::int64_t slots = a.slots, base = a.base, offset = a.offset;
+  const std::int64_t* const lo_index = a.lo;
+  const std::int64_t* const hi_index = a.hi;
+  const int end = a.end;
+  const bool with_hardening = mt.hardening, with_damper = mt.nonlinear, with_arm = mt.arm;
+  const int spectrum_arms = mt.spectrum_arms;
   auto ok = hn::Eq(zero, zero);
   alignas(64) double pull_out[3][kSlotAlign];
 
-  for (int k = a.begin; k < a.end; k += static_cast<int>(lanes)) {
+  for (int k = a.begin; k < end; k += static_cast<int>(lanes)) {
     V xs[3], xe[3], vs[3], ve[3];
-    const std::int64_t ps = a.base + k, pe = ps + a.offset;
+    const std::int64_t ps = base + k, pe = ps + offset;
     if constexpr (kImplicit) {
       for (int c = 0; c < 3; ++c) {
-        xs[c] = hn::LoadU(d, a.x[c] + ps);
-        xe[c] = hn::LoadU(d, a.x[c] + pe);
-        vs[c] = hn::LoadU(d, a.v[c] + ps);
-        ve[c] = hn::LoadU(d, a.v[c] + pe);
+        xs[c] = hn::LoadU(d, x[c] + ps);
+        xe[c] = hn::LoadU(d, x[c] + pe);
+        vs[c] = hn::LoadU(d, v[c] + ps);
+        ve[c] = hn::LoadU(d, v[c] + pe);
       }
     } else {
-      const auto is = hn::Load(di, a.lo + k), ie = hn::Load(di, a.hi + k);
+      const auto is = hn::Load(di, lo_index + k), ie = hn::Load(di, hi_index + k);
       for (int c = 0; c < 3; ++c) {
-        xs[c] = hn::GatherIndex(d, a.x[c], is);
-        xe[c] = hn::GatherIndex(d, a.x[c], ie);
-        vs[c] = hn::GatherIndex(d, a.v[c], is);
-        ve[c] = hn::GatherIndex(d, a.v[c], ie);
+        xs[c] = hn::GatherIndex(d, x[c], is);
+        xe[c] = hn::GatherIndex(d, x[c], ie);
+        vs[c] = hn::GatherIndex(d, v[c], is);
+        ve[c] = hn::GatherIndex(d, v[c], ie);
       }
     }
-    const V L = hn::Load(d, a.L + k);
+    const V L = hn::Load(d, rest + k);
     const auto valid = hn::Gt(L, zero);
     V r[3], dv[3];
     for (int c = 0; c < 3; ++c) {
@@ -74,15 +90,15 @@ bool Sweep(const SweepArgs& a) {
         hn::Add(hn::Add(hn::Mul(r[0], dv[0]), hn::Mul(r[1], dv[1])), hn::Mul(r[2], dv[2])),
         inv_l);
     V k1 = k1_linear;
-    if (mt.hardening) {
-      const V l0 = hn::Load(d, a.l0 + k);
+    if (with_hardening) {
+      const V l0 = hn::Load(d, rest_length + k);
       const V e = hn::Div(hn::Sub(l, l0), l0);
       k1 = hn::Mul(k1, hn::Add(one, hn::Mul(hn::Mul(hardening, e), e)));
     }
-    const V d_old = hn::Load(d, a.d + k);
+    const V d_old = hn::Load(d, d_state + k);
     const V spring = hn::Mul(k1, hn::Sub(d_old, L));
     V c2 = c2_max;
-    if (mt.nonlinear) {
+    if (with_damper) {
       const V force = hn::Abs(spring);
       const V curve = hn::Mul(c2_max, hn::Exp(d, hn::Mul(minus_b, hn::Sub(force, f1))));
       c2 = hn::IfThenElse(hn::Le(force, f1), c2_max,
@@ -90,23 +106,23 @@ bool Sweep(const SweepArgs& a) {
     }
     const V numerator = hn::Sub(hn::Mul(c2, ldot), spring);
     V ddot, tension;
-    if (mt.nonlinear || mt.hardening) {
+    if (with_damper || with_hardening) {
       ddot = hn::Div(numerator, hn::Add(hn::Add(c1, c2), hn::Mul(k1, dt)));
       tension = hn::Add(spring, hn::Mul(hn::Add(hn::Mul(k1, dt), c1), ddot));
     } else {
       ddot = hn::Mul(numerator, inv_denominator);
       tension = hn::Add(spring, hn::Mul(k1_lead_c1, ddot));
     }
-    if (mt.arm) {
-      const V m_old = hn::Load(d, a.m + k);
+    if (with_arm) {
+      const V m_old = hn::Load(d, arm_state + k);
       const V mdot = hn::Sub(ldot, hn::Mul(arm_rate, m_old));
       tension = hn::Add(tension, hn::Mul(k2, hn::Add(m_old, hn::Mul(dt, mdot))));
       const V m_new = hn::Add(m_old, hn::Mul(dt, mdot));
       ok = hn::And(ok, hn::IsFinite(hn::IfThenElseZero(valid, m_new)));
-      hn::Store(hn::IfThenElse(valid, m_new, m_old), d, a.m + k);
+      hn::Store(hn::IfThenElse(valid, m_new, m_old), d, arm_state + k);
     }
-    for (int j = 0; j < mt.spectrum_arms; ++j) {
-      double* state = a.spectrum + j * a.slots + k;
+    for (int j = 0; j < spectrum_arms; ++j) {
+      double* state = spectrum + j * slots + k;
       const V s_old = hn::Load(d, state);
       const V sdot = hn::Sub(ldot, hn::Mul(hn::Set(d, mt.spectrum_rate[j]), s_old));
       tension = hn::Add(tension,
@@ -120,7 +136,7 @@ bool Sweep(const SweepArgs& a) {
     V d_new = hn::Add(d_old, hn::Mul(dt, ddot));
     d_new = hn::IfThenElse(hn::Lt(d_new, lo), lo, hn::IfThenElse(hn::Gt(d_new, hi), hi, d_new));
     ok = hn::And(ok, hn::IsFinite(hn::IfThenElseZero(valid, d_new)));
-    hn::Store(hn::IfThenElse(valid, d_new, d_old), d, a.d + k);
+    hn::Store(hn::IfThenElse(valid, d_new, d_old), d, d_state + k);
 
     const V scale = hn::Mul(tension, inv_l);
     V pull[3];
@@ -129,21 +145,21 @@ bool Sweep(const SweepArgs& a) {
       // The end loads after the start stores: with an offset below the vector length the
       // two ranges overlap and the second must see the first's sums.
       for (int c = 0; c < 3; ++c) {
-        double* fs = a.f[c] + ps;
+        double* fs = f[c] + ps;
         hn::StoreU(hn::Add(hn::LoadU(d, fs), pull[c]), d, fs);
       }
       for (int c = 0; c < 3; ++c) {
-        double* fe = a.f[c] + pe;
+        double* fe = f[c] + pe;
         hn::StoreU(hn::Sub(hn::LoadU(d, fe), pull[c]), d, fe);
       }
     } else {
       // Lanes may share a particle, so the sums are added one lane at a time.
       for (int c = 0; c < 3; ++c) hn::Store(pull[c], d, pull_out[c]);
       for (std::size_t i = 0; i < lanes; ++i) {
-        const std::int64_t s = a.lo[k + i], e = a.hi[k + i];
+        const std::int64_t s = lo_index[k + i], e = hi_index[k + i];
         for (int c = 0; c < 3; ++c) {
-          a.f[c][s] += pull_out[c][i];
-          a.f[c][e] -= pull_out[c][i];
+          f[c][s] += pull_out[c][i];
+          f[c][e] -= pull_out[c][i];
         }
       }
     }

@@ -6,18 +6,27 @@
 
 #include "sim/element_measure.hpp"
 #include "sim/error.hpp"
+#include "sim/fast/particle_sweep.hpp"
 #include "sim/particle_rule.hpp"
 
 namespace rheo::fast {
 namespace {
 
-// Thread t's share [begin, end) of `count` items, cut at multiples of `align`.
-std::pair<int, int> share(int count, int threads, int t, int align) {
-  auto cut = [&](int i) {
-    const long long at = static_cast<long long>(count) * i / threads;
-    return static_cast<int>(std::min<long long>(count, (at + align - 1) / align * align));
-  };
-  return {cut(t), cut(t + 1)};
+// Asks for the cache lines of n doubles from p (for writing: in exclusive state). On x86 as
+// volatile assembly: GCC drops a loop of __builtin_prefetch as free of effects, and
+// PREFETCHW is a no-op on processors that lack it.
+void prefetch(const double* p, int n, bool for_writing) {
+  for (int i = 0; i < n; i += 8) {
+#if defined(__x86_64__)
+    if (for_writing) {
+      asm volatile("prefetchw %0" : : "m"(p[i]));
+    } else {
+      asm volatile("prefetcht0 %0" : : "m"(p[i]));
+    }
+#else
+    __builtin_prefetch(p + i, for_writing ? 1 : 0, 3);
+#endif
+  }
 }
 
 }  // namespace
@@ -31,7 +40,6 @@ std::string fast_path_refusal(const Model& model, const SimOptions& options) {
 FastSimulator::FastSimulator(Model model, SimOptions options, int threads)
     : model_(std::move(model)),
       options_(options),
-      layout_(make_edge_layout(model_)),
       pool_(threads > 0 ? threads : automatic_threads(model_.num_edges())) {
   // The scalar simulator's checks, with its messages: the model, the step, the elements.
   { const Simulator checked(model_, options_); }
@@ -39,8 +47,11 @@ FastSimulator::FastSimulator(Model model, SimOptions options, int threads)
     throw Error("the fast CPU path does not compute " + why + "; use the scalar path");
   }
   n_ = model_.num_particles();
-  stride_ = n_ + kSlotAlign;  // an implicit block's last vector reads up to 7 past its end
+  // An implicit block's last vector reads up to 7 particles past the last one, and each
+  // component of a force sum starts on a vector boundary.
+  stride_ = (n_ + 2 * kSlotAlign - 1) / kSlotAlign * kSlotAlign;
   spectrum_stride_ = spectrum_stride(model_);
+  layout_ = make_edge_layout(model_, pool_.size(), stride_);
   for (int c = 0; c < 3; ++c) {
     x_[c].assign(stride_, 0.0);
     v_[c].assign(stride_, 0.0);
@@ -67,10 +78,83 @@ FastSimulator::FastSimulator(Model model, SimOptions options, int threads)
       rest_volume_.push_back(signed_measure<double>(model_.dim, p, nullptr));
     }
   }
-  held_.assign(n_, 0);
+  held_.assign(stride_, 0.0);
+  inverse_mass_.assign(stride_, 0.0);
+  free_.assign(stride_, 0.0);
+  plate_.assign(stride_, 0.0);
+  for (int c = 0; c < 3; ++c) x0_[c].assign(stride_, 0.0);
+  for (int i = 0; i < n_; ++i) {
+    for (int c = 0; c < 3; ++c) x0_[c][i] = model_.x0[i][c];
+    if (is_fixed_particle(model_.flags[i])) continue;
+    inverse_mass_[i] = 1.0 / model_.mass[i];
+    free_[i] = 1.0;
+    if (model_.flags[i] == kPlate) plate_[i] = 1.0;
+  }
+  for (AlignedVector<double>& f : force_) {
+    for (int c = 0; c < 3; ++c) force_components_.push_back(f.data() + static_cast<std::size_t>(c) * stride_);
+  }
+  make_thread_plans();
   finite_.assign(pool_.size(), 1);
+  edges_done_ = std::vector<StepFlag>(pool_.size());
   partial_.assign(pool_.size(), StepReport{});
   set_state(initial_state(model_));
+}
+
+void FastSimulator::make_thread_plans() {
+  // Each thread owns a contiguous range of particles (a slab of a lattice): it updates them
+  // in the particle pass and sweeps the edges that start in them, so that it mostly reads
+  // particles and force sums its own core wrote. Only the sums near the slab's top end,
+  // where its edges reach into the next slab, cross to another core.
+  const int threads = pool_.size();
+  plan_.assign(threads, ThreadPlan{});
+  auto round_up = [](int i) { return (i + kSlotAlign - 1) / kSlotAlign * kSlotAlign; };
+  for (int t = 0; t < threads; ++t) {
+    plan_[t].particles = {layout_.cuts[t], layout_.cuts[t + 1]};
+    plan_[t].blocks = layout_.slab_blocks[t];
+  }
+  // An element belongs to the slab of its lowest vertex, as an edge does.
+  for (std::size_t el = 0; el < rest_volume_.size(); ++el) {
+    int lowest = stride_;
+    for (int v = 0; v < element_vertex_count(model_); ++v) {
+      lowest = std::min(lowest, element_vertex(model_, el, v));
+    }
+    int t = 0;
+    while (t + 1 < threads && lowest >= layout_.cuts[t + 1]) ++t;
+    plan_[t].elements.push_back(static_cast<int>(el));
+  }
+  for (int t = 0; t < threads; ++t) {
+    ThreadPlan& plan = plan_[t];
+
+    // The force sums this thread writes: every particle its slots and elements touch (the
+    // padding slots add zeros wherever they point, which is never read).
+    int lo = stride_, hi = 0;
+    for (int i = plan.blocks.first; i < plan.blocks.second; ++i) {
+      for (int slot = layout_.blocks[i].begin; slot < layout_.blocks[i].end; ++slot) {
+        if (layout_.slot_edge[slot] < 0) continue;
+        lo = std::min<int>(lo, static_cast<int>(layout_.slot_lo[slot]));
+        hi = std::max<int>(hi, static_cast<int>(layout_.slot_hi[slot]) + 1);
+      }
+    }
+    for (int el : plan.elements) {
+      for (int v = 0; v < element_vertex_count(model_); ++v) {
+        lo = std::min(lo, element_vertex(model_, el, v));
+        hi = std::max(hi, element_vertex(model_, el, v) + 1);
+      }
+    }
+    if (lo >= hi) lo = hi = 0;
+    plan.touched = {lo / kSlotAlign * kSlotAlign, std::min(stride_, round_up(hi))};
+    touched_.push_back(plan.touched.first);
+    touched_.push_back(plan.touched.second);
+  }
+  // Whose force sums each thread's particles need: every other thread that wrote into them.
+  for (int t = 0; t < threads; ++t) {
+    for (int u = 0; u < threads; ++u) {
+      if (u != t && plan_[u].touched.first < plan_[t].particles.second &&
+          plan_[t].particles.first < plan_[u].touched.second) {
+        plan_[t].waits_for.push_back(u);
+      }
+    }
+  }
 }
 
 void FastSimulator::set_state(const State& s) {
@@ -122,7 +206,21 @@ State FastSimulator::state() const {
 
 void FastSimulator::edge_pass(int thread) {
   AlignedVector<double>& f = force_[thread];
-  std::fill(f.begin(), f.end(), 0.0);
+  const ThreadPlan& plan = plan_[thread];
+  // The band above the slab: particles the next thread updated, and force sums it read,
+  // in the last step. Fetched first so the transfers from its core overlap the work below.
+  const int band_from = plan.particles.second;
+  const int band_to = std::max(band_from, plan.touched.second);
+  for (int c = 0; c < 3; ++c) {
+    prefetch(x_[c].data() + band_from, band_to - band_from, false);
+    prefetch(v_[c].data() + band_from, band_to - band_from, false);
+    prefetch(f.data() + static_cast<std::size_t>(c) * stride_ + band_from, band_to - band_from,
+             true);
+  }
+  for (int c = 0; c < 3; ++c) {
+    const auto component = f.begin() + static_cast<std::ptrdiff_t>(c) * stride_;
+    std::fill(component + plan.touched.first, component + plan.touched.second, 0.0);
+  }
   SweepArgs a;
   for (int c = 0; c < 3; ++c) {
     a.x[c] = x_[c].data();
@@ -138,22 +236,19 @@ void FastSimulator::edge_pass(int thread) {
   a.lo = layout_.slot_lo.data();
   a.hi = layout_.slot_hi.data();
   bool finite = true;
-  const int threads = pool_.size();
-  for (const EdgeBlock& b : layout_.blocks) {
-    const auto [from, to] = share(b.end - b.begin, threads, thread, kSlotAlign);
-    if (from >= to) continue;
+  for (int i = plan.blocks.first; i < plan.blocks.second; ++i) {
+    const EdgeBlock& b = layout_.blocks[i];
     a.offset = b.offset;
     a.base = b.first_particle - b.begin;
-    a.begin = b.begin + from;
-    a.end = b.begin + to;
+    a.begin = b.begin;
+    a.end = b.end;
     a.material = &materials_[b.material];
     finite = sweep_edges(a) && finite;
   }
   if (!rest_volume_.empty()) {
     // Area/volume preservation (Simulator::add_volume_forces), a share of the elements each.
     const int nv = element_vertex_count(model_);
-    const auto [from, to] = share(static_cast<int>(rest_volume_.size()), threads, thread, 1);
-    for (int el = from; el < to; ++el) {
+    for (int el : plan.elements) {
       Vec3 p[4], grad[4];
       int id[4];
       for (int v = 0; v < nv; ++v) {
@@ -172,43 +267,60 @@ void FastSimulator::edge_pass(int thread) {
 }
 
 void FastSimulator::particle_pass(int thread, double plate_z) {
-  const auto [from, to] = share(n_, pool_.size(), thread, kSlotAlign);
-  const double dt = options_.dt;
-  const Vec3 g = model_.gravity;
-  StepReport report;
-  bool finite = true;
-  for (int i = from; i < to; ++i) {
-    if (is_fixed_particle(model_.flags[i])) {
-      for (int c = 0; c < 3; ++c) {
-        x_[c][i] = model_.x0[i][c];
-        v_[c][i] = 0.0;
-      }
-      continue;
-    }
-    Vec3 f = Vec3::Zero();
-    for (const AlignedVector<double>& sums : force_) {
-      for (int c = 0; c < 3; ++c) f[c] += sums[static_cast<std::size_t>(c) * stride_ + i];
-    }
-    Vec3 x(x_[0][i], x_[1][i], x_[2][i]), v(v_[0][i], v_[1][i], v_[2][i]);
-    const double z_start = x.z();
-    explicit_update(model_, i, f, g, static_cast<const Vec3*>(nullptr), dt, x, v);
-    if (apply_floor_and_plate(model_, i, z_start, plate_z, dt, f.z(), x, v, held_[i])) {
-      report.plate_force_N += f.z();
-      ++report.contacts;
-    }
-    finite = finite && x.allFinite() && v.allFinite();
+  const auto [from, to] = plan_[thread].particles;
+  ParticleSweepArgs a;
+  for (int c = 0; c < 3; ++c) {
+    a.x[c] = x_[c].data();
+    a.v[c] = v_[c].data();
+    a.x0[c] = x0_[c].data();
+    a.gravity[c] = model_.gravity[c];
+  }
+  a.force = force_components_.data();
+  a.threads = pool_.size();
+  a.touched = touched_.data();
+  a.inverse_mass = inverse_mass_.data();
+  a.free = free_.data();
+  a.dt = options_.dt;
+  a.floor = model_.floor;
+  a.plate = plate_.data();
+  a.plate_z = plate_z;
+  a.hold_while_pushing = model_.plate_contact == PlateContact::kHoldWhilePushing;
+  a.held = held_.data();
+  // The band at the slab's bottom, where the thread below added force sums and read these
+  // particles: fetched first (the sums to read, the particles to write), swept last.
+  const int band_to = thread == 0 ? from : std::clamp(plan_[thread - 1].touched.second, from, to);
+  if (band_to > from) {
     for (int c = 0; c < 3; ++c) {
-      x_[c][i] = x[c];
-      v_[c][i] = v[c];
+      prefetch(force_components_[(thread - 1) * 3 + c] + from, band_to - from, false);
+      prefetch(x_[c].data() + from, band_to - from, true);
+      prefetch(v_[c].data() + from, band_to - from, true);
     }
   }
-  partial_[thread] = report;
-  finite_[thread] = finite_[thread] && finite;
+  a.begin = band_to;
+  a.end = to;
+  const ParticleSweepResult upper = sweep_particles(a);
+  a.begin = from;
+  a.end = band_to;
+  const ParticleSweepResult band = sweep_particles(a);
+  partial_[thread].plate_force_N = upper.plate_force_N + band.plate_force_N;
+  partial_[thread].contacts = upper.contacts + band.contacts;
+  finite_[thread] = finite_[thread] && upper.finite && band.finite;
 }
 
 StepReport FastSimulator::step(double plate_z) {
-  pool_.run([this](int t) { edge_pass(t); });
-  pool_.run([this, plate_z](int t) { particle_pass(t, plate_z); });
+  // One job per step. A thread's particles take force sums from its own edges and
+  // elements and, in the band at the slab's bottom, from the threads below (edge_layout.hpp):
+  // so each thread waits for those to finish their edge pass, not for all. The next step
+  // starts when every thread is done (the band at a slab's top is read again then).
+  const long long step = steps_ + 1;
+  pool_.run([this, plate_z, step](int t) {
+    edge_pass(t);
+    edges_done_[t].step.store(step, std::memory_order_release);
+    for (int u : plan_[t].waits_for) {
+      while (edges_done_[u].step.load(std::memory_order_acquire) != step) spin_pause();
+    }
+    particle_pass(t, plate_z);
+  });
   StepReport report;
   report.plate_z = plate_z;
   for (const StepReport& p : partial_) {

@@ -15,8 +15,10 @@
 // RK4 and topology maintenance (fast_path_refusal names them).
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/fast/edge_layout.hpp"
@@ -53,14 +55,25 @@ class FastSimulator {
   std::string describe() const;
 
  private:
+  // What one thread does in a step: its slab's particles, edge blocks (edge_layout.hpp) and
+  // elements (those whose lowest vertex it holds), the range of force sums they write
+  // (zeroed at the step's start), and the threads whose sums its particles also need.
+  struct ThreadPlan {
+    std::pair<int, int> particles;
+    std::pair<int, int> blocks;
+    std::vector<int> elements;
+    std::pair<int, int> touched;
+    std::vector<int> waits_for;
+  };
+  void make_thread_plans();
   void edge_pass(int thread);
   void particle_pass(int thread, double plate_z);
   [[noreturn]] void report_failure() const;
 
   Model model_;
   SimOptions options_;
-  EdgeLayout layout_;
   WorkerPool pool_;
+  EdgeLayout layout_;
   int n_ = 0;         // particles
   int stride_ = 0;    // particle arrays' length (n_ padded for the implicit loads)
   int spectrum_stride_ = 0;
@@ -73,10 +86,20 @@ class FastSimulator {
   std::vector<SweepMaterial> materials_;
   // Area/volume preservation: signed rest measure per element.
   std::vector<double> rest_volume_;
-  std::vector<std::uint8_t> held_;
+  // The particle pass's constants and the plate's hold flags (particle_sweep.hpp), padded
+  // like x_.
+  AlignedVector<double> inverse_mass_, free_, plate_, x0_[3], held_;
+  std::vector<const double*> force_components_;  // force_[t] component c at [t * 3 + c]
+  std::vector<ThreadPlan> plan_;
+  std::vector<int> touched_;  // plan_[t].touched as pairs, for the particle sweep
   // Per thread: whether the pass stayed finite, and its share of the plate report.
   std::vector<std::uint8_t> finite_;
   std::vector<StepReport> partial_;
+  // Per thread, on a cache line of its own: the last step whose edge pass it finished.
+  struct alignas(64) StepFlag {
+    std::atomic<long long> step{0};
+  };
+  std::vector<StepFlag> edges_done_;
   double t_ = 0.0;
   long long steps_ = 0;
 };

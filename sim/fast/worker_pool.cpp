@@ -12,12 +12,6 @@ constexpr int kSpinsBeforeSleep = 20000;
 // Edges from which a second thread pays: a 26-neighbour lattice of about 10x10x10.
 constexpr int kEdgesPerExtraThread = 8000;
 
-inline void relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#endif
-}
-
 }  // namespace
 
 WorkerPool::WorkerPool(int threads) {
@@ -43,7 +37,7 @@ void WorkerPool::run(const std::function<void(int)>& job) {
   job(0);
   for (int spin = 0; pending_.load(std::memory_order_acquire) != 0; ++spin) {
     if (spin < kSpinsBeforeSleep) {
-      relax();
+      spin_pause();
     } else {
       std::this_thread::yield();
     }
@@ -56,7 +50,7 @@ void WorkerPool::work(int index) {
   for (;;) {
     std::uint64_t now = generation_.load(std::memory_order_acquire);
     for (int spin = 0; now == seen && spin < kSpinsBeforeSleep; ++spin) {
-      relax();
+      spin_pause();
       now = generation_.load(std::memory_order_acquire);
     }
     if (now == seen) {

@@ -36,6 +36,13 @@ class WorkerPool {
   std::atomic<bool> stop_{false};
 };
 
+// A pause for a thread spinning on a flag another core will set.
+inline void spin_pause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
 // The thread count the fast path uses when asked for 0 ("auto"): one thread for small
 // models (a step of a few microseconds does not pay for waking a second thread), else
 // every hardware thread.

@@ -1,0 +1,91 @@
+// Compiled once per instruction set by Highway's foreach_target, with -ffp-contract=off as
+// edge_sweep.cpp is (see there).
+#include "sim/fast/particle_sweep.hpp"
+
+#include <cstddef>
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "sim/fast/particle_sweep.cpp"
+#include "hwy/foreach_target.h"  // IWYU pragma: keep
+#include "hwy/highway.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace rheo::fast {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// explicit_update and apply_floor_and_plate (sim/particle_rule.hpp), lane-wise.
+ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), dt = hn::Set(d, a.dt);
+  const V plate_z = hn::Set(d, a.plate_z), inverse_dt = hn::Set(d, 1.0 / a.dt);
+  const V gravity[3] = {hn::Set(d, a.gravity[0]), hn::Set(d, a.gravity[1]),
+                        hn::Set(d, a.gravity[2])};
+  auto ok = hn::Eq(zero, zero);
+  V plate_force = zero;
+  std::size_t contacts = 0;
+  for (int i = a.begin; i < a.end; i += static_cast<int>(hn::Lanes(d))) {
+    const auto moves = hn::Gt(hn::Load(d, a.free + i), zero);
+    const V inverse_mass = hn::Load(d, a.inverse_mass + i);
+    const V z_start = hn::Load(d, a.x[2] + i);
+    V x[3], v[3], force_z = zero;
+    for (int c = 0; c < 3; ++c) {
+      V f = zero;
+      for (int t = 0; t < a.threads; ++t) {
+        if (i >= a.touched[2 * t] && i < a.touched[2 * t + 1]) {
+          f = hn::Add(f, hn::Load(d, a.force[t * 3 + c] + i));
+        }
+      }
+      if (c == 2) force_z = f;
+      const V accel = hn::Add(hn::Mul(f, inverse_mass), gravity[c]);
+      v[c] = hn::Add(hn::Load(d, a.v[c] + i), hn::Mul(dt, accel));
+      x[c] = hn::Add(hn::Load(d, a.x[c] + i), hn::Mul(dt, v[c]));
+    }
+    if (a.floor) {
+      const auto below = hn::Lt(x[2], zero);
+      x[2] = hn::IfThenElse(below, zero, x[2]);
+      v[2] = hn::IfThenElse(below, hn::Max(v[2], zero), v[2]);
+    }
+    // The plate: through it, or held and still pushing (kHoldWhilePushing).
+    const auto on_plate = hn::Gt(hn::Load(d, a.plate + i), zero);
+    const V held = hn::Load(d, a.held + i);
+    const V plate_velocity = hn::Mul(hn::Sub(plate_z, z_start), inverse_dt);
+    const auto through = hn::And(on_plate, hn::Gt(x[2], plate_z));
+    auto kept = hn::And(on_plate, hn::And(hn::Gt(held, zero), hn::Gt(force_z, zero)));
+    if (!a.hold_while_pushing) kept = hn::And(kept, hn::Lt(one, zero));
+    kept = hn::AndNot(through, kept);
+    const auto contact = hn::Or(through, kept);
+    x[2] = hn::IfThenElse(contact, plate_z, x[2]);
+    v[2] = hn::IfThenElse(through, hn::Min(v[2], plate_velocity),
+                          hn::IfThenElse(kept, plate_velocity, v[2]));
+    hn::Store(hn::IfThenElse(on_plate, hn::IfThenElseZero(contact, one), held), d, a.held + i);
+    plate_force = hn::Add(plate_force, hn::IfThenElseZero(contact, force_z));
+    contacts += hn::CountTrue(d, contact);
+    for (int c = 0; c < 3; ++c) {
+      x[c] = hn::IfThenElse(moves, x[c], hn::Load(d, a.x0[c] + i));
+      v[c] = hn::IfThenElseZero(moves, v[c]);
+      ok = hn::And(ok, hn::And(hn::IsFinite(x[c]), hn::IsFinite(v[c])));
+      hn::Store(x[c], d, a.x[c] + i);
+      hn::Store(v[c], d, a.v[c] + i);
+    }
+  }
+  ParticleSweepResult r;
+  r.finite = hn::AllTrue(d, ok);
+  r.plate_force_N = hn::GetLane(hn::SumOfLanes(d, plate_force));
+  r.contacts = static_cast<int>(contacts);
+  return r;
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace rheo::fast
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace rheo::fast {
+HWY_EXPORT(SweepParticles);
+ParticleSweepResult sweep_particles(const ParticleSweepArgs& args) {
+  return HWY_DYNAMIC_DISPATCH(SweepParticles)(args);
+}
+}  // namespace rheo::fast
+#endif  // HWY_ONCE
