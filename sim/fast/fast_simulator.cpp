@@ -40,7 +40,7 @@ std::string fast_path_refusal(const Model& model, const SimOptions& options) {
 FastSimulator::FastSimulator(Model model, SimOptions options, int threads)
     : model_(std::move(model)),
       options_(options),
-      pool_(threads > 0 ? threads : automatic_threads(model_.num_edges())) {
+      pool_(std::min(kMaxThreads, threads > 0 ? threads : automatic_threads(model_.num_edges()))) {
   // The scalar simulator's checks, with its messages: the model, the step, the elements.
   { const Simulator checked(model_, options_); }
   if (const std::string why = fast_path_refusal(model_, options_); !why.empty()) {
@@ -95,7 +95,7 @@ FastSimulator::FastSimulator(Model model, SimOptions options, int threads)
   }
   make_thread_plans();
   finite_.assign(pool_.size(), 1);
-  edges_done_ = std::vector<StepFlag>(pool_.size());
+  band_done_ = std::vector<StepFlag>(pool_.size());
   partial_.assign(pool_.size(), StepReport{});
   set_state(initial_state(model_));
 }
@@ -124,6 +124,26 @@ void FastSimulator::make_thread_plans() {
   }
   for (int t = 0; t < threads; ++t) {
     ThreadPlan& plan = plan_[t];
+    // Phase 0: the slots and elements that reach into the next slab (the band), phase 1 the
+    // rest. A thread sweeps phase 0 first, so the sums the next thread needs are ready early.
+    const int next_slab = plan.particles.second;
+    for (int i = plan.blocks.first; i < plan.blocks.second; ++i) {
+      const EdgeBlock& b = layout_.blocks[i];
+      int split = b.begin;  // indexed blocks: all in phase 0 (their ends are anywhere)
+      if (b.offset > 0) {
+        const int first_reaching = next_slab - b.offset - b.first_particle;
+        split = b.begin + std::clamp(first_reaching / kSlotAlign * kSlotAlign, 0, b.end - b.begin);
+      }
+      if (split < b.end) plan.phase[0].slots.push_back({i, split, b.end});
+      if (b.begin < split) plan.phase[1].slots.push_back({i, b.begin, split});
+    }
+    for (int el : plan.elements) {
+      bool reaches = false;
+      for (int v = 0; v < element_vertex_count(model_); ++v) {
+        reaches = reaches || element_vertex(model_, el, v) >= next_slab;
+      }
+      plan.phase[reaches ? 0 : 1].elements.push_back(el);
+    }
 
     // The force sums this thread writes: every particle its slots and elements touch (the
     // padding slots add zeros wherever they point, which is never read).
@@ -204,7 +224,7 @@ State FastSimulator::state() const {
   return s;
 }
 
-void FastSimulator::edge_pass(int thread) {
+void FastSimulator::edge_pass(int thread, long long step) {
   AlignedVector<double>& f = force_[thread];
   const ThreadPlan& plan = plan_[thread];
   // The band above the slab: particles the next thread updated, and force sums it read,
@@ -236,37 +256,23 @@ void FastSimulator::edge_pass(int thread) {
   a.lo = layout_.slot_lo.data();
   a.hi = layout_.slot_hi.data();
   bool finite = true;
-  for (int i = plan.blocks.first; i < plan.blocks.second; ++i) {
-    const EdgeBlock& b = layout_.blocks[i];
-    a.offset = b.offset;
-    a.base = b.first_particle - b.begin;
-    a.begin = b.begin;
-    a.end = b.end;
-    a.material = &materials_[b.material];
-    finite = sweep_edges(a) && finite;
-  }
-  if (!rest_volume_.empty()) {
-    // Area/volume preservation (Simulator::add_volume_forces), a share of the elements each.
-    const int nv = element_vertex_count(model_);
-    for (int el : plan.elements) {
-      Vec3 p[4], grad[4];
-      int id[4];
-      for (int v = 0; v < nv; ++v) {
-        id[v] = element_vertex(model_, el, v);
-        p[v] = Vec3(x_[0][id[v]], x_[1][id[v]], x_[2][id[v]]);
-      }
-      const double vol = signed_measure<double>(model_.dim, p, grad);
-      const double rest = rest_volume_[el];
-      const double pressure = -model_.volume.kv * (vol - rest) / std::abs(rest);
-      for (int v = 0; v < nv; ++v) {
-        for (int c = 0; c < 3; ++c) f[static_cast<std::size_t>(c) * stride_ + id[v]] += pressure * grad[v][c];
-      }
+  for (int phase = 0; phase < 2; ++phase) {
+    for (const SlotRange& r : plan.phase[phase].slots) {
+      const EdgeBlock& b = layout_.blocks[r.block];
+      a.offset = b.offset;
+      a.base = b.first_particle - b.begin;
+      a.begin = r.begin;
+      a.end = r.end;
+      a.material = &materials_[b.material];
+      finite = sweep_edges(a) && finite;
     }
+    add_volume_forces(plan.phase[phase].elements, f.data());
+    if (phase == 0) band_done_[thread].step.store(step, std::memory_order_release);
   }
   finite_[thread] = finite;
 }
 
-void FastSimulator::particle_pass(int thread, double plate_z) {
+void FastSimulator::particle_pass(int thread, double plate_z, long long step) {
   const auto [from, to] = plan_[thread].particles;
   ParticleSweepArgs a;
   for (int c = 0; c < 3; ++c) {
@@ -286,15 +292,19 @@ void FastSimulator::particle_pass(int thread, double plate_z) {
   a.plate_z = plate_z;
   a.hold_while_pushing = model_.plate_contact == PlateContact::kHoldWhilePushing;
   a.held = held_.data();
-  // The band at the slab's bottom, where the thread below added force sums and read these
-  // particles: fetched first (the sums to read, the particles to write), swept last.
-  const int band_to = thread == 0 ? from : std::clamp(plan_[thread - 1].touched.second, from, to);
-  if (band_to > from) {
-    for (int c = 0; c < 3; ++c) {
-      prefetch(force_components_[(thread - 1) * 3 + c] + from, band_to - from, false);
-      prefetch(x_[c].data() + from, band_to - from, true);
-      prefetch(v_[c].data() + from, band_to - from, true);
-    }
+  // The band at the slab's bottom, where threads below added force sums and read these
+  // particles: fetched first (the sums once they are complete, the particles for writing),
+  // swept last.
+  const ThreadPlan& plan = plan_[thread];
+  int band_to = from;
+  for (int u : plan.waits_for) band_to = std::max(band_to, std::min(to, plan_[u].touched.second));
+  for (int c = 0; c < 3; ++c) {
+    prefetch(x_[c].data() + from, band_to - from, true);
+    prefetch(v_[c].data() + from, band_to - from, true);
+  }
+  for (int u : plan.waits_for) {
+    while (band_done_[u].step.load(std::memory_order_acquire) != step) spin_pause();
+    for (int c = 0; c < 3; ++c) prefetch(force_components_[u * 3 + c] + from, band_to - from, false);
   }
   a.begin = band_to;
   a.end = to;
@@ -307,19 +317,35 @@ void FastSimulator::particle_pass(int thread, double plate_z) {
   finite_[thread] = finite_[thread] && upper.finite && band.finite;
 }
 
+void FastSimulator::add_volume_forces(const std::vector<int>& elements, double* f) const {
+  // Area/volume preservation as Simulator::add_volume_forces computes it.
+  const int nv = element_vertex_count(model_);
+  for (int el : elements) {
+    Vec3 p[4], grad[4];
+    int id[4];
+    for (int v = 0; v < nv; ++v) {
+      id[v] = element_vertex(model_, el, v);
+      p[v] = Vec3(x_[0][id[v]], x_[1][id[v]], x_[2][id[v]]);
+    }
+    const double vol = signed_measure<double>(model_.dim, p, grad);
+    const double rest = rest_volume_[el];
+    const double pressure = -model_.volume.kv * (vol - rest) / std::abs(rest);
+    for (int v = 0; v < nv; ++v) {
+      for (int c = 0; c < 3; ++c) f[static_cast<std::size_t>(c) * stride_ + id[v]] += pressure * grad[v][c];
+    }
+  }
+}
+
 StepReport FastSimulator::step(double plate_z) {
   // One job per step. A thread's particles take force sums from its own edges and
-  // elements and, in the band at the slab's bottom, from the threads below (edge_layout.hpp):
-  // so each thread waits for those to finish their edge pass, not for all. The next step
-  // starts when every thread is done (the band at a slab's top is read again then).
+  // elements and, in the band at the slab's bottom, from the threads below (edge_layout.hpp),
+  // which sweep the slots reaching into it first (make_thread_plans): so a thread waits only
+  // for those, and only before its band (particle_pass). The next step starts when every
+  // thread is done (the band at a slab's top is read again then).
   const long long step = steps_ + 1;
   pool_.run([this, plate_z, step](int t) {
-    edge_pass(t);
-    edges_done_[t].step.store(step, std::memory_order_release);
-    for (int u : plan_[t].waits_for) {
-      while (edges_done_[u].step.load(std::memory_order_acquire) != step) spin_pause();
-    }
-    particle_pass(t, plate_z);
+    edge_pass(t, step);
+    particle_pass(t, plate_z, step);
   });
   StepReport report;
   report.plate_z = plate_z;

@@ -58,16 +58,26 @@ class FastSimulator {
   // What one thread does in a step: its slab's particles, edge blocks (edge_layout.hpp) and
   // elements (those whose lowest vertex it holds), the range of force sums they write
   // (zeroed at the step's start), and the threads whose sums its particles also need.
+  struct SlotRange {
+    int block, begin, end;
+  };
+  struct Phase {
+    std::vector<SlotRange> slots;
+    std::vector<int> elements;
+  };
   struct ThreadPlan {
     std::pair<int, int> particles;
     std::pair<int, int> blocks;
     std::vector<int> elements;
+    Phase phase[2];  // phase 0 reaches into the next slab, phase 1 does not
     std::pair<int, int> touched;
     std::vector<int> waits_for;
   };
   void make_thread_plans();
-  void edge_pass(int thread);
-  void particle_pass(int thread, double plate_z);
+  // `step`: the step being computed, which the band flags carry.
+  void edge_pass(int thread, long long step);
+  void particle_pass(int thread, double plate_z, long long step);
+  void add_volume_forces(const std::vector<int>& elements, double* f) const;
   [[noreturn]] void report_failure() const;
 
   Model model_;
@@ -95,11 +105,12 @@ class FastSimulator {
   // Per thread: whether the pass stayed finite, and its share of the plate report.
   std::vector<std::uint8_t> finite_;
   std::vector<StepReport> partial_;
-  // Per thread, on a cache line of its own: the last step whose edge pass it finished.
+  // Per thread, on a cache line of its own: the last step whose phase 0 (the sums in the
+  // next slab's band) it finished.
   struct alignas(64) StepFlag {
     std::atomic<long long> step{0};
   };
-  std::vector<StepFlag> edges_done_;
+  std::vector<StepFlag> band_done_;
   double t_ = 0.0;
   long long steps_ = 0;
 };

@@ -22,52 +22,72 @@ ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
   const V plate_z = hn::Set(d, a.plate_z), inverse_dt = hn::Set(d, 1.0 / a.dt);
   const V gravity[3] = {hn::Set(d, a.gravity[0]), hn::Set(d, a.gravity[1]),
                         hn::Set(d, a.gravity[2])};
+  // Pointers and bounds in locals: Highway's stores may alias anything, so fields read
+  // through `a` would be read again after every store.
+  double* const x_state[3] = {a.x[0], a.x[1], a.x[2]};
+  double* const v_state[3] = {a.v[0], a.v[1], a.v[2]};
+  const double* const rest[3] = {a.x0[0], a.x0[1], a.x0[2]};
+  const double* const free = a.free;
+  const double* const inverse_masses = a.inverse_mass;
+  const double* const plate = a.plate;
+  double* const held_state = a.held;
+  const bool floor = a.floor, hold_while_pushing = a.hold_while_pushing;
+  const int end = a.end;
+  // The force sums to add for this range: each thread's that wrote into it, in thread order.
+  const double* sums[kMaxThreads][3];
+  int from[kMaxThreads], to[kMaxThreads];
+  int count = 0;
+  for (int t = 0; t < a.threads; ++t) {
+    if (a.touched[2 * t] >= end || a.touched[2 * t + 1] <= a.begin) continue;
+    for (int c = 0; c < 3; ++c) sums[count][c] = a.force[t * 3 + c];
+    from[count] = a.touched[2 * t];
+    to[count] = a.touched[2 * t + 1];
+    ++count;
+  }
   auto ok = hn::Eq(zero, zero);
   V plate_force = zero;
   std::size_t contacts = 0;
-  for (int i = a.begin; i < a.end; i += static_cast<int>(hn::Lanes(d))) {
-    const auto moves = hn::Gt(hn::Load(d, a.free + i), zero);
-    const V inverse_mass = hn::Load(d, a.inverse_mass + i);
-    const V z_start = hn::Load(d, a.x[2] + i);
+  for (int i = a.begin; i < end; i += static_cast<int>(hn::Lanes(d))) {
+    const auto moves = hn::Gt(hn::Load(d, free + i), zero);
+    const V inverse_mass = hn::Load(d, inverse_masses + i);
+    const V z_start = hn::Load(d, x_state[2] + i);
     V x[3], v[3], force_z = zero;
     for (int c = 0; c < 3; ++c) {
       V f = zero;
-      for (int t = 0; t < a.threads; ++t) {
-        if (i >= a.touched[2 * t] && i < a.touched[2 * t + 1]) {
-          f = hn::Add(f, hn::Load(d, a.force[t * 3 + c] + i));
-        }
+      for (int s = 0; s < count; ++s) {
+        if (i >= from[s] && i < to[s]) f = hn::Add(f, hn::Load(d, sums[s][c] + i));
       }
       if (c == 2) force_z = f;
       const V accel = hn::Add(hn::Mul(f, inverse_mass), gravity[c]);
-      v[c] = hn::Add(hn::Load(d, a.v[c] + i), hn::Mul(dt, accel));
-      x[c] = hn::Add(hn::Load(d, a.x[c] + i), hn::Mul(dt, v[c]));
+      v[c] = hn::Add(hn::Load(d, v_state[c] + i), hn::Mul(dt, accel));
+      x[c] = hn::Add(hn::Load(d, x_state[c] + i), hn::Mul(dt, v[c]));
     }
-    if (a.floor) {
+    if (floor) {
       const auto below = hn::Lt(x[2], zero);
       x[2] = hn::IfThenElse(below, zero, x[2]);
       v[2] = hn::IfThenElse(below, hn::Max(v[2], zero), v[2]);
     }
     // The plate: through it, or held and still pushing (kHoldWhilePushing).
-    const auto on_plate = hn::Gt(hn::Load(d, a.plate + i), zero);
-    const V held = hn::Load(d, a.held + i);
+    const auto on_plate = hn::Gt(hn::Load(d, plate + i), zero);
+    const V held = hn::Load(d, held_state + i);
     const V plate_velocity = hn::Mul(hn::Sub(plate_z, z_start), inverse_dt);
     const auto through = hn::And(on_plate, hn::Gt(x[2], plate_z));
     auto kept = hn::And(on_plate, hn::And(hn::Gt(held, zero), hn::Gt(force_z, zero)));
-    if (!a.hold_while_pushing) kept = hn::And(kept, hn::Lt(one, zero));
+    if (!hold_while_pushing) kept = hn::And(kept, hn::Lt(one, zero));
     kept = hn::AndNot(through, kept);
     const auto contact = hn::Or(through, kept);
     x[2] = hn::IfThenElse(contact, plate_z, x[2]);
     v[2] = hn::IfThenElse(through, hn::Min(v[2], plate_velocity),
                           hn::IfThenElse(kept, plate_velocity, v[2]));
-    hn::Store(hn::IfThenElse(on_plate, hn::IfThenElseZero(contact, one), held), d, a.held + i);
+    hn::Store(hn::IfThenElse(on_plate, hn::IfThenElseZero(contact, one), held), d, held_state + i);
     plate_force = hn::Add(plate_force, hn::IfThenElseZero(contact, force_z));
     contacts += hn::CountTrue(d, contact);
     for (int c = 0; c < 3; ++c) {
-      x[c] = hn::IfThenElse(moves, x[c], hn::Load(d, a.x0[c] + i));
+      x[c] = hn::IfThenElse(moves, x[c], hn::Load(d, rest[c] + i));
       v[c] = hn::IfThenElseZero(moves, v[c]);
       ok = hn::And(ok, hn::And(hn::IsFinite(x[c]), hn::IsFinite(v[c])));
-      hn::Store(x[c], d, a.x[c] + i);
-      hn::Store(v[c], d, a.v[c] + i);
+      hn::Store(x[c], d, x_state[c] + i);
+      hn::Store(v[c], d, v_state[c] + i);
     }
   }
   ParticleSweepResult r;

@@ -10,11 +10,14 @@
 
 namespace rheo::fast {
 
+// The most threads whose force sums one sweep adds.
+constexpr int kMaxThreads = 64;
+
 struct ParticleSweepArgs {
   double* x[3] = {};  // positions and velocities (updated)
   double* v[3] = {};
   const double* const* force = nullptr;  // per thread, per component: force[t * 3 + c]
-  int threads = 1;                       // force sums to add, in thread order
+  int threads = 1;  // force sums to add, in thread order (at most kMaxThreads)
   const int* touched = nullptr;  // thread t wrote its sums in [touched[2t], touched[2t+1])
   const double* inverse_mass = nullptr;
   const double* free = nullptr;  // 1 for a particle that moves, 0 for a fixed one
