@@ -19,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/fast/fast_simulator.hpp"
 #include "sim/model.hpp"
 #include "sim/simulator.hpp"
 
@@ -33,6 +34,9 @@ struct Options {
   double input_idle_prob = 0.0;
   double output_stall_prob = 0.0;
   std::uint64_t seed = 1;
+  // ref: the fast CPU path (falling back to the scalar model, with a note in describe(), for
+  // what it does not compute) or the scalar reference model.
+  fast::CpuOptions cpu;
 };
 
 // The clocks of a fixed-point core: its own cycle counter (status register, all cores) and,
@@ -72,13 +76,15 @@ class Backend {
   // (what the backend holds; a relaxation spectrum only where it computes one).
   virtual State state() = 0;
   // The state after the last step where the backend keeps it in host memory in double
-  // precision (the reference): no copy, no read-back. nullptr where state() has to convert
-  // or read it from a core; callers then read it only where they need it.
+  // precision (the reference): no read-back from a core (the fast CPU path converts its
+  // layout once after each run). nullptr where state() has to convert or read it from a
+  // core; callers then read it only where they need it.
   virtual const State* resident_state() const { return nullptr; }
   // Features of the loaded model this backend does not compute (empty: all of it).
   virtual std::vector<std::string> dropped_features() const = 0;
   // What the backend is beyond its name, for reports (e.g. a fixed-point format's widths and
-  // units); empty where there is nothing to add.
+  // units; the reference's CPU path as "cpu_path", and as "cpu_note" why it is not the fast
+  // one); empty where there is nothing to add.
   virtual nlohmann::json describe() const { return nlohmann::json::object(); }
   // The core's clocks where the backend is a core (empty for the reference and float).
   virtual std::optional<CoreClock> clock() { return std::nullopt; }

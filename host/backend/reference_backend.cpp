@@ -1,8 +1,10 @@
-// The double-precision reference model behind the Backend interface.
+// The double-precision reference model behind the Backend interface: the fast CPU path
+// (sim/fast/) where it computes the model, else the scalar rheo::Simulator.
 #include <memory>
 
 #include "host/backend/backend.hpp"
 #include "sim/error.hpp"
+#include "sim/fast/fast_simulator.hpp"
 #include "sim/simulator.hpp"
 
 namespace rheo::backend {
@@ -10,37 +12,80 @@ namespace {
 
 class ReferenceBackend : public Backend {
  public:
+  explicit ReferenceBackend(fast::CpuOptions cpu) : cpu_(cpu) {}
+
   std::string name() const override { return "reference (double)"; }
   std::string arithmetic() const override { return "double-precision reference model"; }
 
   void load(const Model& model, const State& state, const SimOptions& options) override {
-    sim_ = std::make_unique<Simulator>(model, options);
-    sim_->mutable_state() = state;
+    scalar_.reset();
+    fast_.reset();
+    note_.clear();
+    const std::string refusal = cpu_.fast ? fast::fast_path_refusal(model, options) : "";
+    if (cpu_.fast && refusal.empty()) {
+      fast_ = std::make_unique<fast::FastSimulator>(model, options, cpu_.threads);
+      fast_->set_state(state);
+    } else {
+      scalar_ = std::make_unique<Simulator>(model, options);
+      scalar_->mutable_state() = state;
+      note_ = cpu_.fast ? "the fast CPU path does not compute " + refusal +
+                              ": the scalar path runs this model"
+                        : "the scalar path, as asked";
+    }
+    cached_ = false;
   }
 
   std::vector<double> run(std::span<const double> plate_z) override {
+    if (!scalar_ && !fast_) throw Error("reference backend: no model loaded");
     std::vector<double> force;
     force.reserve(plate_z.size());
-    for (double z : plate_z) force.push_back(loaded().step(z).plate_force_N);
+    cached_ = false;
+    for (double z : plate_z) {
+      force.push_back((fast_ ? fast_->step(z) : scalar_->step(z)).plate_force_N);
+    }
     return force;
   }
 
-  State state() override { return loaded().state(); }
-  const State* resident_state() const override { return sim_ ? &sim_->state() : nullptr; }
+  State state() override {
+    const State* s = resident_state();
+    if (!s) throw Error("reference backend: no model loaded");
+    return *s;
+  }
+
+  const State* resident_state() const override {
+    if (scalar_) return &scalar_->state();
+    if (!fast_) return nullptr;
+    if (!cached_) {
+      cache_ = fast_->state();
+      cached_ = true;
+    }
+    return &cache_;
+  }
+
   std::vector<std::string> dropped_features() const override { return {}; }
 
- private:
-  Simulator& loaded() {
-    if (!sim_) throw Error("reference backend: no model loaded");
-    return *sim_;
+  nlohmann::json describe() const override {
+    nlohmann::json j = nlohmann::json::object();
+    if (fast_) j["cpu_path"] = fast_->describe();
+    if (scalar_) j["cpu_path"] = "scalar CPU path (rheo::Simulator, one thread)";
+    if (!note_.empty()) j["cpu_note"] = note_;
+    return j;
   }
-  std::unique_ptr<Simulator> sim_;
+
+ private:
+  fast::CpuOptions cpu_;
+  std::unique_ptr<Simulator> scalar_;
+  std::unique_ptr<fast::FastSimulator> fast_;
+  std::string note_;  // why the scalar path runs
+  // The fast path's state in the scalar layout, converted once after each run.
+  mutable State cache_;
+  mutable bool cached_ = false;
 };
 
 }  // namespace
 
-std::unique_ptr<Backend> make_reference_backend(const std::string&, const Options&) {
-  return std::make_unique<ReferenceBackend>();
+std::unique_ptr<Backend> make_reference_backend(const std::string&, const Options& options) {
+  return std::make_unique<ReferenceBackend>(options.cpu);
 }
 
 }  // namespace rheo::backend

@@ -31,6 +31,26 @@ void add_lanes_option(CLI::App* cmd, int& lanes, const std::string& what) {
       ->capture_default_str();
 }
 
+void add_cpu_options(CLI::App* cmd, CpuArgs& args) {
+  cmd->add_option("--cpu", args.path,
+                  "CPU path of the double-precision model: fast (vectorised and threaded, "
+                  "sim/fast/; the scalar path runs what it does not compute, and says so) or "
+                  "scalar (the reference rheo::Simulator, to compare)")
+      ->check(CLI::IsMember({"fast", "scalar"}))
+      ->capture_default_str();
+  cmd->add_option("--threads", args.threads,
+                  "threads of the fast CPU path (0: one for small models, else every core)")
+      ->check(whole_number_in(0, fast::kMaxThreads, "--threads"))
+      ->capture_default_str();
+}
+
+fast::CpuOptions cpu_options(const CpuArgs& args) {
+  fast::CpuOptions o;
+  o.fast = args.path == "fast";
+  o.threads = args.threads;
+  return o;
+}
+
 void add_element_option(CLI::App* cmd, std::string& name, bool allow_auto) {
   std::vector<std::string> names;
   std::string help = "edge element of the core: ";

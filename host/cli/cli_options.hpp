@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "sim/fast/fast_simulator.hpp"
+
 namespace rheo::cli {
 
 // --out DIR and --force. Every command that writes results stages them in a hidden
@@ -22,6 +24,15 @@ void add_output_options(CLI::App* cmd, OutputOptions& options);
 
 // --lanes L: TEM/MPM lanes of the core, one of hls::kLaneCounts, default hls::kDefaultLanes.
 void add_lanes_option(CLI::App* cmd, int& lanes, const std::string& what);
+
+// --cpu fast|scalar and --threads N: which CPU path runs the double-precision model
+// (sim/fast/; the scalar one to compare) and the fast path's threads (0: automatic).
+struct CpuArgs {
+  std::string path = "fast";
+  int threads = 0;
+};
+void add_cpu_options(CLI::App* cmd, CpuArgs& args);
+fast::CpuOptions cpu_options(const CpuArgs& args);
 
 // --element NAME: the edge element of the core (hls::kEdgeElements; with allow_auto also
 // "auto", the element the model needs). `name` keeps its default.

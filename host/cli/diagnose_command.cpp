@@ -25,6 +25,7 @@ void register_diagnose(CLI::App& app) {
     double max_dt = 0.1;
     std::string geometry, strain, as;
     SpecimenArgs specimen;
+    CpuArgs cpu;
     BackendCheckArgs check;
   };
   auto args = std::make_shared<Args>();
@@ -44,6 +45,7 @@ void register_diagnose(CLI::App& app) {
   add_output_options(cmd, args->output);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
   add_max_dt_option(cmd, args->max_dt);
+  add_cpu_options(cmd, args->cpu);
   add_import_options(cmd, args->geometry, args->strain, args->as);
   add_specimen_options(cmd, args->specimen);
   add_backend_check_options(cmd, args->check);
@@ -59,6 +61,7 @@ void register_diagnose(CLI::App& app) {
     output::StagedDirectory out(args->output.out, args->output.force);
     DiagnoseOptions options;
     options.fit.simulation.max_dt = args->max_dt;
+    options.fit.simulation.cpu = cpu_options(args->cpu);
     apply_specimen_options(args->specimen, options.fit.simulation);
     Progress progress("model fits", 0, progress_enabled(args->quiet));
     options.on_model_fitted = [&progress](int done, int total) {

@@ -24,6 +24,7 @@ void register_fit(CLI::App& app) {
     double max_dt = 0.1;
     std::string geometry, strain, as;
     SpecimenArgs specimen;
+    CpuArgs cpu;
     BackendCheckArgs check;
   };
   auto args = std::make_shared<Args>();
@@ -45,6 +46,7 @@ void register_fit(CLI::App& app) {
   add_output_options(cmd, args->output);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
   add_max_dt_option(cmd, args->max_dt);
+  add_cpu_options(cmd, args->cpu);
   add_import_options(cmd, args->geometry, args->strain, args->as);
   add_specimen_options(cmd, args->specimen);
   add_backend_check_options(cmd, args->check);
@@ -58,6 +60,7 @@ void register_fit(CLI::App& app) {
     output::StagedDirectory out(args->output.out, args->output.force);
     FitOptions options;
     options.simulation.max_dt = args->max_dt;
+    options.simulation.cpu = cpu_options(args->cpu);
     apply_specimen_options(args->specimen, options.simulation);
     // Fits have no fixed length: the display counts solver iterations against their limit.
     Progress progress("fit", 0, progress_enabled(args->quiet));

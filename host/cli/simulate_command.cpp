@@ -47,6 +47,7 @@ struct SimulateArgs {
   std::string backend = "ref";  // a backend::make_backend spec
   int lanes = hls::kDefaultLanes;
   bool allow_dropped = false;  // run on a backend that leaves out features of the scenario
+  CpuArgs cpu;                 // ref: fast or scalar CPU path
 };
 
 // Ctrl-C during a long run: finish the current step, then fail like any other error so
@@ -146,6 +147,7 @@ void run_simulate(const SimulateArgs& args) {
   // created on disk.
   backend::Options backend_options;
   backend_options.lanes = args.lanes;
+  backend_options.cpu = cpu_options(args.cpu);
   const std::unique_ptr<backend::Backend> engine =
       backend::make_backend(args.backend, backend_options);
   const State start_state = initial_state(model);
@@ -163,6 +165,10 @@ void run_simulate(const SimulateArgs& args) {
   }
   for (const std::string& f : dropped) {
     std::cerr << "rheo simulate: note: backend " << engine->name() << " leaves out " << f << "\n";
+  }
+  const nlohmann::json engine_info = engine->describe();
+  if (engine_info.contains("cpu_note") && args.cpu.path == "fast") {
+    std::cerr << "rheo simulate: note: " << engine_info["cpu_note"].get<std::string>() << "\n";
   }
   output::StagedDirectory out(args.output.out, args.output.force);
   const std::string dir = out.path();
@@ -273,6 +279,9 @@ void run_simulate(const SimulateArgs& args) {
             << model.num_edges() << " edges, " << steps << " steps of " << format(dt) << " s ("
             << format(run_s) << " s simulated) in " << format(wall_s, "%.2f") << " s ("
             << format(steps / std::max(wall_s, 1e-9), "%.0f") << " steps/s)\n";
+  if (engine_info.contains("cpu_path")) {
+    std::cout << "  computed on the " << engine_info["cpu_path"].get<std::string>() << "\n";
+  }
   for (const std::string& line : figures.lines()) std::cout << "  " << line << "\n";
   std::cout << "  force CSV:  " << target << "/force.csv\n"
             << "  VTK series: " << target << "/mesh.pvd (" << vtk.frames() << " frames in "
@@ -321,6 +330,7 @@ void register_simulate(CLI::App& app) {
                       "model in single precision; bittrue, rtl and remote give identical numbers")
       ->capture_default_str();
   add_lanes_option(cmd, args->lanes, "an in-process rtl or bittrue core");
+  add_cpu_options(cmd, args->cpu);
   cmd->callback([args]() { run_simulate(*args); });
 }
 

@@ -138,7 +138,9 @@ StepPlan step_plan(const Measurement& protocol, const SpecimenParams& p,
 
 Prediction simulate_object(const Measurement& protocol, const SpecimenParams& p,
                            const SimulationOptions& o) {
-  const std::unique_ptr<backend::Backend> reference = backend::make_backend("ref");
+  backend::Options options;
+  options.cpu = o.cpu;
+  const std::unique_ptr<backend::Backend> reference = backend::make_backend("ref", options);
   return simulate_object(protocol, p, o, *reference);
 }
 

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "host/identify/measurement.hpp"
+#include "sim/fast/fast_simulator.hpp"
 #include "sim/model.hpp"
 
 namespace rheo::identify {
@@ -92,6 +93,7 @@ struct SimulationOptions {
   double steps_per_time_constant = 10;  // accuracy: dt <= shortest relaxation time / this
   long max_steps = 20000;               // column: cap on the total steps (dt grows instead)
   long max_object_steps = 2000000;      // object: cap on the total steps (refused above)
+  fast::CpuOptions cpu;                 // object: the reference's CPU path (sim/fast/)
 };
 
 struct Prediction {

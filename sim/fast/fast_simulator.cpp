@@ -163,14 +163,23 @@ void FastSimulator::make_thread_plans() {
     }
     if (lo >= hi) lo = hi = 0;
     plan.touched = {lo / kSlotAlign * kSlotAlign, std::min(stride_, round_up(hi))};
+    // The particles it reads reach further: padding lanes read past the last edge.
+    int reach = plan.touched.second;
+    for (int i = plan.blocks.first; i < plan.blocks.second; ++i) {
+      for (int slot = layout_.blocks[i].begin; slot < layout_.blocks[i].end; ++slot) {
+        reach = std::max<int>(reach, static_cast<int>(layout_.slot_hi[slot]) + 1);
+      }
+    }
+    plan.reads_to = std::min(stride_, round_up(reach));
     touched_.push_back(plan.touched.first);
     touched_.push_back(plan.touched.second);
   }
-  // Whose force sums each thread's particles need: every other thread that wrote into them.
+  // Whose force sums each thread's particles need, or who reads them: every other thread
+  // that writes sums into its slab or reads particles there.
   for (int t = 0; t < threads; ++t) {
     for (int u = 0; u < threads; ++u) {
       if (u != t && plan_[u].touched.first < plan_[t].particles.second &&
-          plan_[t].particles.first < plan_[u].touched.second) {
+          plan_[t].particles.first < std::max(plan_[u].touched.second, plan_[u].reads_to)) {
         plan_[t].waits_for.push_back(u);
       }
     }
@@ -297,7 +306,7 @@ void FastSimulator::particle_pass(int thread, double plate_z, long long step) {
   // swept last.
   const ThreadPlan& plan = plan_[thread];
   int band_to = from;
-  for (int u : plan.waits_for) band_to = std::max(band_to, std::min(to, plan_[u].touched.second));
+  for (int u : plan.waits_for) band_to = std::max(band_to, std::min(to, plan_[u].reads_to));
   for (int c = 0; c < 3; ++c) {
     prefetch(x_[c].data() + from, band_to - from, true);
     prefetch(v_[c].data() + from, band_to - from, true);

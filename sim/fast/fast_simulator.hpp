@@ -28,6 +28,14 @@
 
 namespace rheo::fast {
 
+// Which CPU path runs the double-precision model: the fast path (the default wherever the
+// model allows it) or the scalar reference rheo::Simulator, and the fast path's threads
+// (0: automatic_threads).
+struct CpuOptions {
+  bool fast = true;
+  int threads = 0;
+};
+
 // Why the fast path cannot run `model` with `options` (e.g. "the RK4 integrator"), or ""
 // when it can.
 std::string fast_path_refusal(const Model& model, const SimOptions& options);
@@ -71,6 +79,7 @@ class FastSimulator {
     std::vector<int> elements;
     Phase phase[2];  // phase 0 reaches into the next slab, phase 1 does not
     std::pair<int, int> touched;
+    int reads_to = 0;  // beyond its last particle read (padding lanes included)
     std::vector<int> waits_for;
   };
   void make_thread_plans();

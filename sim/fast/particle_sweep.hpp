@@ -8,10 +8,9 @@
 
 #include <cstdint>
 
-namespace rheo::fast {
+#include "sim/fast/worker_pool.hpp"
 
-// The most threads whose force sums one sweep adds.
-constexpr int kMaxThreads = 64;
+namespace rheo::fast {
 
 struct ParticleSweepArgs {
   double* x[3] = {};  // positions and velocities (updated)

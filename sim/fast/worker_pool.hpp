@@ -12,6 +12,10 @@
 
 namespace rheo::fast {
 
+// The most threads the fast path runs (one particle sweep adds at most this many threads'
+// force sums).
+constexpr int kMaxThreads = 64;
+
 class WorkerPool {
  public:
   // `threads` >= 1 threads in all: the caller's own and threads - 1 workers.

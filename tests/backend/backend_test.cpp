@@ -323,3 +323,49 @@ TEST(Backend, StrainHardeningAloneIsComputedByTheHardwareBackends) {
 
 }  // namespace
 }  // namespace rheo::backend
+
+namespace rheo::backend {
+namespace {
+
+// The reference backend on its two CPU paths: the fast one by default (and it says so), the
+// scalar one on request and for what the fast one does not compute (with the reason); both
+// give the same forces and state to rounding, and the fast path's state reads back in the
+// scalar layout, in place and by state().
+TEST(Backend, TheReferenceRunsOnTheFastCpuPathAndFallsBackToTheScalarOneByName) {
+  const Model model = block5_model(/*maxwell_arm=*/true);
+  Options scalar_options;
+  scalar_options.cpu.fast = false;
+  const std::unique_ptr<Backend> fast = make_backend("ref");
+  const std::unique_ptr<Backend> scalar = make_backend("ref", scalar_options);
+  const double dt = load_scenario("block5").options.dt;
+  fast->load(model, initial_state(model), dt);
+  scalar->load(model, initial_state(model), dt);
+  EXPECT_NE(fast->describe()["cpu_path"].get<std::string>().find("fast CPU path"),
+            std::string::npos);
+  EXPECT_FALSE(fast->describe().contains("cpu_note"));
+  EXPECT_NE(scalar->describe()["cpu_path"].get<std::string>().find("scalar"), std::string::npos);
+  const std::vector<double> a = run_steps(*fast, model, 0, kSteps);
+  const std::vector<double> b = run_steps(*scalar, model, 0, kSteps);
+  EXPECT_LE(max_diff(a, b), 1e-12 * peak(b));
+  ASSERT_NE(fast->resident_state(), nullptr);
+  const State& s = *fast->resident_state();
+  const State r = scalar->state();
+  for (int i = 0; i < model.num_particles(); ++i) {
+    EXPECT_LE((s.x[i] - r.x[i]).norm(), 1e-12 * model.size) << "particle " << i;
+  }
+  for (int k = 0; k < model.num_edges(); ++k) EXPECT_NEAR(s.m[k], r.m[k], 1e-15) << "edge " << k;
+  EXPECT_EQ(fast->state().d, s.d);
+
+  SimOptions rk4;
+  rk4.dt = dt;
+  rk4.integrator = Integrator::kRK4;
+  fast->load(model, initial_state(model), rk4);
+  EXPECT_NE(fast->describe()["cpu_note"].get<std::string>().find("RK4"), std::string::npos)
+      << fast->describe().dump();
+  // The fallback is the scalar model itself: the same numbers bit for bit.
+  scalar->load(model, initial_state(model), rk4);
+  EXPECT_EQ(run_steps(*fast, model, 0, 200), run_steps(*scalar, model, 0, 200));
+}
+
+}  // namespace
+}  // namespace rheo::backend

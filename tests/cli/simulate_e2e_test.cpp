@@ -236,6 +236,42 @@ TEST_F(SimulateTest, FeaturesABackendLeavesOutAreRefusedUnlessAllowed) {
   EXPECT_EQ(r.status, 0) << r.output;
 }
 
+// The reference runs on the fast CPU path by default and says so; --cpu scalar runs the
+// scalar model with the same rows to rounding; a model the fast path does not compute
+// (topology maintenance) runs on the scalar path with a note.
+TEST_F(SimulateTest, TheReferenceRunsOnTheFastCpuPathAndSaysSo) {
+  auto run = [&](const std::string& scenario, const std::string& options, const std::string& dir) {
+    const RunResult r = run_rheo("simulate --scenario " + scenario +
+                                 " --steps 800 --quiet --no-plot " + options + " --out " + dir);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return r;
+  };
+  const std::string fast_dir = (root_ / "fast").string(), scalar_dir = (root_ / "scalar").string();
+  RunResult r = run("block5", "", fast_dir);
+  EXPECT_NE(r.output.find("computed on the fast CPU path ("), std::string::npos) << r.output;
+  r = run("block5", "--cpu scalar", scalar_dir);
+  EXPECT_NE(r.output.find("computed on the scalar CPU path"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("note:"), std::string::npos) << r.output;
+  const std::vector<Row> fast = read_rows(fast_dir + "/force.csv");
+  const std::vector<Row> scalar = read_rows(scalar_dir + "/force.csv");
+  ASSERT_EQ(fast.size(), scalar.size());
+  for (std::size_t i = 0; i < fast.size(); ++i) {
+    EXPECT_NEAR(fast[i].force_N, scalar[i].force_N, 1e-9) << "row " << i;
+  }
+
+  nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
+  j["topology_maintenance"] = {{"eps", 0.2}, {"k_n_m", 100.0}, {"c_ns_m", 0.1}};
+  r = run(write_scenario(j), "", out());
+  EXPECT_NE(r.output.find("note: the fast CPU path does not compute topology maintenance"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("computed on the scalar CPU path"), std::string::npos) << r.output;
+
+  r = run_rheo("simulate --scenario block5 --threads 65 --out " + (root_ / "t").string());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("--threads"), std::string::npos) << r.output;
+}
+
 TEST_F(SimulateTest, UnstableTimeStepFailsWithTheLargestSafeDtAndWritesNothing) {
   nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
   j["integrator"]["dt_s"] = 0.05;
