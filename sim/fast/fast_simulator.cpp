@@ -206,6 +206,8 @@ void FastSimulator::set_state(const State& s) {
     }
   }
   t_ = s.t;
+  // A step that failed may have left sums behind (a step clears them as it reads them).
+  for (AlignedVector<double>& f : force_) std::fill(f.begin(), f.end(), 0.0);
 }
 
 State FastSimulator::state() const {
@@ -246,9 +248,12 @@ void FastSimulator::edge_pass(int thread, long long step) {
     prefetch(f.data() + static_cast<std::size_t>(c) * stride_ + band_from, band_to - band_from,
              true);
   }
-  for (int c = 0; c < 3; ++c) {
+  // The sums in its own slab were set back to 0 as the last step's particle pass read them;
+  // those it adds in the band above are cleared here.
+  const int above_from = std::max(plan.touched.first, plan.particles.second);
+  for (int c = 0; c < 3 && above_from < plan.touched.second; ++c) {
     const auto component = f.begin() + static_cast<std::ptrdiff_t>(c) * stride_;
-    std::fill(component + plan.touched.first, component + plan.touched.second, 0.0);
+    std::fill(component + above_from, component + plan.touched.second, 0.0);
   }
   SweepArgs a;
   for (int c = 0; c < 3; ++c) {
@@ -293,6 +298,7 @@ void FastSimulator::particle_pass(int thread, double plate_z, long long step) {
   a.force = force_components_.data();
   a.threads = pool_.size();
   a.touched = touched_.data();
+  a.own_thread = thread;
   a.inverse_mass = inverse_mass_.data();
   a.free = free_.data();
   a.dt = options_.dt;

@@ -108,7 +108,7 @@ class FastSimulator {
   // The particle pass's constants and the plate's hold flags (particle_sweep.hpp), padded
   // like x_.
   AlignedVector<double> inverse_mass_, free_, plate_, x0_[3], held_;
-  std::vector<const double*> force_components_;  // force_[t] component c at [t * 3 + c]
+  std::vector<double*> force_components_;  // force_[t] component c at [t * 3 + c]
   std::vector<ThreadPlan> plan_;
   std::vector<int> touched_;  // plan_[t].touched as pairs, for the particle sweep
   // Per thread: whether the pass stayed finite, and its share of the plate report.

@@ -34,12 +34,15 @@ ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
   const bool floor = a.floor, hold_while_pushing = a.hold_while_pushing;
   const int end = a.end;
   // The force sums to add for this range: each thread's that wrote into it, in thread order.
-  const double* sums[kMaxThreads][3];
+  // The sweeping thread's own sums are cleared as they are read, ready for the next step.
+  double* sums[kMaxThreads][3];
   int from[kMaxThreads], to[kMaxThreads];
+  bool clear[kMaxThreads];
   int count = 0;
   for (int t = 0; t < a.threads; ++t) {
     if (a.touched[2 * t] >= end || a.touched[2 * t + 1] <= a.begin) continue;
     for (int c = 0; c < 3; ++c) sums[count][c] = a.force[t * 3 + c];
+    clear[count] = t == a.own_thread;
     from[count] = a.touched[2 * t];
     to[count] = a.touched[2 * t + 1];
     ++count;
@@ -55,7 +58,10 @@ ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
     for (int c = 0; c < 3; ++c) {
       V f = zero;
       for (int s = 0; s < count; ++s) {
-        if (i >= from[s] && i < to[s]) f = hn::Add(f, hn::Load(d, sums[s][c] + i));
+        if (i >= from[s] && i < to[s]) {
+          f = hn::Add(f, hn::Load(d, sums[s][c] + i));
+          if (clear[s]) hn::Store(zero, d, sums[s][c] + i);
+        }
       }
       if (c == 2) force_z = f;
       const V accel = hn::Add(hn::Mul(f, inverse_mass), gravity[c]);

@@ -15,9 +15,10 @@ namespace rheo::fast {
 struct ParticleSweepArgs {
   double* x[3] = {};  // positions and velocities (updated)
   double* v[3] = {};
-  const double* const* force = nullptr;  // per thread, per component: force[t * 3 + c]
+  double* const* force = nullptr;  // per thread, per component: force[t * 3 + c]
   int threads = 1;  // force sums to add, in thread order (at most kMaxThreads)
   const int* touched = nullptr;  // thread t wrote its sums in [touched[2t], touched[2t+1])
+  int own_thread = 0;  // the sweeping thread: its sums are set back to 0 once read
   const double* inverse_mass = nullptr;
   const double* free = nullptr;  // 1 for a particle that moves, 0 for a fixed one
   const double* x0[3] = {};      // rest positions (fixed particles)

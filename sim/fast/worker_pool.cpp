@@ -14,7 +14,8 @@ constexpr int kEdgesPerExtraThread = 8000;
 
 }  // namespace
 
-WorkerPool::WorkerPool(int threads) {
+WorkerPool::WorkerPool(int threads)
+    : done_(std::make_unique<Flag[]>(static_cast<std::size_t>(std::max(1, threads)))) {
   for (int t = 1; t < std::max(1, threads); ++t) workers_.emplace_back([this, t] { work(t); });
 }
 
@@ -31,15 +32,16 @@ void WorkerPool::run(const std::function<void(int)>& job) {
     return;
   }
   job_ = &job;
-  pending_.store(static_cast<int>(workers_.size()));
-  generation_.fetch_add(1, std::memory_order_release);
+  const std::uint64_t generation = generation_.fetch_add(1, std::memory_order_release) + 1;
   generation_.notify_all();
   job(0);
-  for (int spin = 0; pending_.load(std::memory_order_acquire) != 0; ++spin) {
-    if (spin < kSpinsBeforeSleep) {
-      spin_pause();
-    } else {
-      std::this_thread::yield();
+  for (std::size_t w = 0; w < workers_.size(); ++w) {
+    for (int spin = 0; done_[w].generation.load(std::memory_order_acquire) != generation; ++spin) {
+      if (spin < kSpinsBeforeSleep) {
+        spin_pause();
+      } else {
+        std::this_thread::yield();
+      }
     }
   }
   job_ = nullptr;
@@ -60,7 +62,7 @@ void WorkerPool::work(int index) {
     seen = now;
     if (stop_.load()) return;
     (*job_)(index);
-    pending_.fetch_sub(1, std::memory_order_acq_rel);
+    done_[index - 1].generation.store(now, std::memory_order_release);
   }
 }
 

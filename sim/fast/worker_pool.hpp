@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <thread>
 #include <vector>
 
@@ -33,11 +34,18 @@ class WorkerPool {
  private:
   void work(int index);
 
+  // A counter on a cache line of its own, so that a thread's flag and the next job's
+  // announcement each cost one transfer between cores.
+  struct alignas(64) Flag {
+    std::atomic<std::uint64_t> generation{0};
+  };
   std::vector<std::thread> workers_;
+  // The job and its number (written by the caller, read by the workers), and per worker the
+  // number of the last job it finished.
+  alignas(64) std::atomic<std::uint64_t> generation_{0};
   const std::function<void(int)>* job_ = nullptr;
-  std::atomic<std::uint64_t> generation_{0};
-  std::atomic<int> pending_{0};
   std::atomic<bool> stop_{false};
+  std::unique_ptr<Flag[]> done_;
 };
 
 // A pause for a thread spinning on a flag another core will set.
