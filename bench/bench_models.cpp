@@ -1,5 +1,7 @@
 #include "bench/bench_models.hpp"
 
+#include <algorithm>
+
 namespace rheo::bench {
 
 const std::vector<BenchModel>& bench_models() {
@@ -51,6 +53,19 @@ double ScenarioLoop::step() {
   ++total_;
   const double z = scenario_.plate_z(model_, step_);
   return (fast_ ? fast_->step(z) : scalar_->step(z)).plate_force_N;
+}
+
+double ScenarioLoop::run(int steps) {
+  if (at_end()) restart();
+  const long long n = std::min<long long>(steps, period_ - step_);
+  plate_z_.clear();
+  for (long long i = 1; i <= n; ++i) plate_z_.push_back(scenario_.plate_z(model_, step_ + i));
+  step_ += n;
+  total_ += n;
+  if (fast_) return fast_->run(plate_z_).back().plate_force_N;
+  double force = 0.0;
+  for (double z : plate_z_) force = scalar_->step(z).plate_force_N;
+  return force;
 }
 
 }  // namespace rheo::bench

@@ -49,6 +49,9 @@ class ScenarioLoop {
   // One step of the scenario; restarts from rest first when the protocol has ended.
   // Returns the plate force [N]. Throws rheo::Error on a numerical failure.
   double step();
+  // `steps` steps up to the protocol's end (fewer when it ends first), in one call of the
+  // fast path's run() as the backends make it; the last plate force.
+  double run(int steps);
 
   // True when the next step() restarts from rest (a benchmark pauses its timer for it).
   bool at_end() const { return step_ >= period_; }
@@ -69,6 +72,7 @@ class ScenarioLoop {
   long long period_ = 0;  // steps of one protocol run
   long long step_ = 0;    // steps since the last restart
   long long total_ = 0;   // steps since construction
+  std::vector<double> plate_z_;  // run()'s plate heights
 };
 
 }  // namespace rheo::bench

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <thread>
 
 #include "sim/element_measure.hpp"
 #include "sim/error.hpp"
@@ -94,9 +95,8 @@ FastSimulator::FastSimulator(Model model, SimOptions options, int threads)
     for (int c = 0; c < 3; ++c) force_components_.push_back(f.data() + static_cast<std::size_t>(c) * stride_);
   }
   make_thread_plans();
-  finite_.assign(pool_.size(), 1);
   band_done_ = std::vector<StepFlag>(pool_.size());
-  partial_.assign(pool_.size(), StepReport{});
+  updated_ = std::vector<StepFlag>(pool_.size());
   set_state(initial_state(model_));
 }
 
@@ -181,6 +181,7 @@ void FastSimulator::make_thread_plans() {
       if (u != t && plan_[u].touched.first < plan_[t].particles.second &&
           plan_[t].particles.first < std::max(plan_[u].touched.second, plan_[u].reads_to)) {
         plan_[t].waits_for.push_back(u);
+        plan_[u].waited_by.push_back(t);
       }
     }
   }
@@ -235,7 +236,7 @@ State FastSimulator::state() const {
   return s;
 }
 
-void FastSimulator::edge_pass(int thread, long long step) {
+bool FastSimulator::edge_pass(int thread, long long step) {
   AlignedVector<double>& f = force_[thread];
   const ThreadPlan& plan = plan_[thread];
   // The band above the slab: particles the next thread updated, and force sums it read,
@@ -283,10 +284,10 @@ void FastSimulator::edge_pass(int thread, long long step) {
     add_volume_forces(plan.phase[phase].elements, f.data());
     if (phase == 0) band_done_[thread].step.store(step, std::memory_order_release);
   }
-  finite_[thread] = finite;
+  return finite;
 }
 
-void FastSimulator::particle_pass(int thread, double plate_z, long long step) {
+StepReport FastSimulator::particle_pass(int thread, double plate_z, long long step, bool& finite) {
   const auto [from, to] = plan_[thread].particles;
   ParticleSweepArgs a;
   for (int c = 0; c < 3; ++c) {
@@ -318,7 +319,7 @@ void FastSimulator::particle_pass(int thread, double plate_z, long long step) {
     prefetch(v_[c].data() + from, band_to - from, true);
   }
   for (int u : plan.waits_for) {
-    while (band_done_[u].step.load(std::memory_order_acquire) != step) spin_pause();
+    if (!wait_for(band_done_[u], step)) break;
     for (int c = 0; c < 3; ++c) prefetch(force_components_[u * 3 + c] + from, band_to - from, false);
   }
   a.begin = band_to;
@@ -327,9 +328,11 @@ void FastSimulator::particle_pass(int thread, double plate_z, long long step) {
   a.begin = from;
   a.end = band_to;
   const ParticleSweepResult band = sweep_particles(a);
-  partial_[thread].plate_force_N = upper.plate_force_N + band.plate_force_N;
-  partial_[thread].contacts = upper.contacts + band.contacts;
-  finite_[thread] = finite_[thread] && upper.finite && band.finite;
+  StepReport report;
+  report.plate_force_N = upper.plate_force_N + band.plate_force_N;
+  report.contacts = upper.contacts + band.contacts;
+  finite = finite && upper.finite && band.finite;
+  return report;
 }
 
 void FastSimulator::add_volume_forces(const std::vector<int>& elements, double* f) const {
@@ -351,30 +354,77 @@ void FastSimulator::add_volume_forces(const std::vector<int>& elements, double* 
   }
 }
 
-StepReport FastSimulator::step(double plate_z) {
-  // One job per step. A thread's particles take force sums from its own edges and
-  // elements and, in the band at the slab's bottom, from the threads below (edge_layout.hpp),
-  // which sweep the slots reaching into it first (make_thread_plans): so a thread waits only
-  // for those, and only before its band (particle_pass). The next step starts when every
-  // thread is done (the band at a slab's top is read again then).
-  const long long step = steps_ + 1;
-  pool_.run([this, plate_z, step](int t) {
-    edge_pass(t, step);
-    particle_pass(t, plate_z, step);
+bool FastSimulator::wait_for(const StepFlag& flag, long long step) const {
+  for (int spin = 0; flag.step.load(std::memory_order_acquire) < step; ++spin) {
+    if (failed_step_.load(std::memory_order_relaxed) != 0) return false;
+    if (spin < kSpinsBeforeYield) {
+      spin_pause();
+    } else {
+      std::this_thread::yield();  // more threads than cores: let the awaited one run
+    }
+  }
+  return true;
+}
+
+StepReport FastSimulator::step(double plate_z) { return run(std::span<const double>(&plate_z, 1)).front(); }
+
+std::vector<StepReport> FastSimulator::run(std::span<const double> plate_z) {
+  // One job for all the steps: no thread waits for all the others between steps. A thread's
+  // particles take force sums from its own edges and elements and, in the band at the slab's
+  // bottom, from the threads below (edge_layout.hpp), which sweep the slots reaching into it
+  // first and flag them (band_done_); so it waits for that flag before its band. Before its
+  // next edge pass it waits for the threads above to have updated their band (updated_):
+  // it reads those particles, and clears the sums they read.
+  const int threads = pool_.size();
+  const long long first = steps_ + 1;
+  const long long count = static_cast<long long>(plate_z.size());
+  reports_.assign(static_cast<std::size_t>(count * threads), StepReport{});
+  failed_step_.store(0);
+  pool_.run([&](int t) {
+    for (long long i = 0; i < count; ++i) {
+      const long long step = first + i;
+      for (int u : plan_[t].waited_by) {
+        if (!wait_for(updated_[u], step - 1)) return;
+      }
+      bool finite = edge_pass(t, step);
+      reports_[static_cast<std::size_t>(i * threads + t)] =
+          particle_pass(t, plate_z[static_cast<std::size_t>(i)], step, finite);
+      updated_[t].step.store(step, std::memory_order_release);
+      if (!finite) {
+        long long seen = 0;
+        while (!failed_step_.compare_exchange_weak(seen, seen == 0 ? step : std::min(seen, step))) {
+        }
+      }
+      if (failed_step_.load(std::memory_order_relaxed) != 0) return;
+    }
   });
-  StepReport report;
-  report.plate_z = plate_z;
-  for (const StepReport& p : partial_) {
-    report.plate_force_N += p.plate_force_N;
-    report.contacts += p.contacts;
+  if (const long long failed = failed_step_.load(); failed != 0) {
+    // Threads may have got one step further; the next run starts after the failed step.
+    for (int t = 0; t < threads; ++t) {
+      band_done_[t].step.store(failed);
+      updated_[t].step.store(failed);
+    }
+    steps_ = failed;
+    t_ += static_cast<double>(failed - first + 1) * options_.dt;
+    report_failure();
   }
-  ++steps_;
-  t_ += options_.dt;
-  if (std::find(finite_.begin(), finite_.end(), 0) != finite_.end()) report_failure();
-  if (!std::isfinite(report.plate_force_N)) {
-    throw Error("non-finite plate force at step " + std::to_string(steps_));
+  std::vector<StepReport> out(static_cast<std::size_t>(count));
+  for (long long i = 0; i < count; ++i) {
+    StepReport& r = out[static_cast<std::size_t>(i)];
+    r.plate_z = plate_z[static_cast<std::size_t>(i)];
+    for (int t = 0; t < threads; ++t) {
+      const StepReport& p = reports_[static_cast<std::size_t>(i * threads + t)];
+      r.plate_force_N += p.plate_force_N;
+      r.contacts += p.contacts;
+    }
+    if (!std::isfinite(r.plate_force_N)) {
+      steps_ = first + i;
+      throw Error("non-finite plate force at step " + std::to_string(steps_));
+    }
   }
-  return report;
+  steps_ += count;
+  t_ += static_cast<double>(count) * options_.dt;
+  return out;
 }
 
 void FastSimulator::report_failure() const {

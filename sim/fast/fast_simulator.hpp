@@ -17,6 +17,7 @@
 
 #include <atomic>
 #include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,6 +50,10 @@ class FastSimulator {
   // As Simulator::step. Throws rheo::Error naming the non-finite state, as the scalar
   // path does.
   StepReport step(double plate_z);
+  // One step per plate height, the reports in order: the threads run all of them in one
+  // job. On a non-finite state it throws as step() does at the first step concerned (the
+  // threads may have gone up to one step further by then).
+  std::vector<StepReport> run(std::span<const double> plate_z);
 
   // The state in the scalar layout (a copy), and replacing it.
   State state() const;
@@ -80,12 +85,14 @@ class FastSimulator {
     Phase phase[2];  // phase 0 reaches into the next slab, phase 1 does not
     std::pair<int, int> touched;
     int reads_to = 0;  // beyond its last particle read (padding lanes included)
-    std::vector<int> waits_for;
+    std::vector<int> waits_for;  // whose sums and reads reach into its slab
+    std::vector<int> waited_by;  // whose slab its sums and reads reach into
   };
   void make_thread_plans();
-  // `step`: the step being computed, which the band flags carry.
-  void edge_pass(int thread, long long step);
-  void particle_pass(int thread, double plate_z, long long step);
+  // `step`: the step being computed, which the flags carry. edge_pass returns whether its
+  // updated state stayed finite; particle_pass clears `finite` where its does not.
+  bool edge_pass(int thread, long long step);
+  StepReport particle_pass(int thread, double plate_z, long long step, bool& finite);
   void add_volume_forces(const std::vector<int>& elements, double* f) const;
   [[noreturn]] void report_failure() const;
 
@@ -111,15 +118,17 @@ class FastSimulator {
   std::vector<double*> force_components_;  // force_[t] component c at [t * 3 + c]
   std::vector<ThreadPlan> plan_;
   std::vector<int> touched_;  // plan_[t].touched as pairs, for the particle sweep
-  // Per thread: whether the pass stayed finite, and its share of the plate report.
-  std::vector<std::uint8_t> finite_;
-  std::vector<StepReport> partial_;
-  // Per thread, on a cache line of its own: the last step whose phase 0 (the sums in the
-  // next slab's band) it finished.
+  // Per thread, on a cache line of its own: the last step whose edges reaching into the next
+  // slab it has swept (band_done_), and whose particles it has updated (updated_).
   struct alignas(64) StepFlag {
     std::atomic<long long> step{0};
   };
-  std::vector<StepFlag> band_done_;
+  // Waits until `flag` reaches `step`; false when another thread failed meanwhile.
+  bool wait_for(const StepFlag& flag, long long step) const;
+  static constexpr int kSpinsBeforeYield = 1 << 16;
+  std::vector<StepFlag> band_done_, updated_;
+  alignas(64) std::atomic<long long> failed_step_{0};  // first non-finite step of a run, or 0
+  std::vector<StepReport> reports_;  // a run's reports, step by step, thread by thread
   double t_ = 0.0;
   long long steps_ = 0;
 };

@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <random>
+#include <span>
 #include <string>
 
 #include "sim/error.hpp"
@@ -144,6 +146,34 @@ TEST(FastPath, IrregularEdgesRunAsAnEdgeListWithSeveralMaterials) {
   EXPECT_LE(gap.position, kTolerance);
 }
 
+// run() hands the threads all its steps in one job (neighbouring slabs wait for each other's
+// flags, not for a join): the numbers are those of stepping one by one, bit for bit.
+TEST(FastPath, ManyStepsInOneRunEqualSteppingOneByOneBitForBit) {
+  const Scenario sc = load_scenario(std::string(RHEO_SOURCE_DIR) +
+                                    "/data/scenarios/block5_every_feature.json");
+  const Model model = sc.build_model();
+  for (int threads : {2, 3}) {
+    FastSimulator batched(model, sc.options, threads), single(model, sc.options, threads);
+    std::vector<double> z;
+    for (int s = 1; s <= 700; ++s) z.push_back(sc.plate_z(model, s));
+    std::vector<StepReport> reports;
+    for (std::size_t at = 0; at < z.size(); at += 350) {
+      const std::vector<StepReport> part =
+          batched.run(std::span<const double>(z).subspan(at, 350));
+      reports.insert(reports.end(), part.begin(), part.end());
+    }
+    for (std::size_t s = 0; s < z.size(); ++s) {
+      const StepReport r = single.step(z[s]);
+      ASSERT_EQ(r.plate_force_N, reports[s].plate_force_N) << threads << " threads, step " << s;
+      ASSERT_EQ(r.contacts, reports[s].contacts);
+    }
+    EXPECT_GT(reports.back().contacts, 0);
+    EXPECT_EQ(batched.state().x, single.state().x);
+    EXPECT_EQ(batched.state().d, single.state().d);
+    EXPECT_EQ(batched.steps(), single.steps());
+  }
+}
+
 TEST(FastPath, ALatticeUsesImplicitTopology) {
   const Scenario sc = load_scenario("block15");
   const FastSimulator fast(sc.build_model(), sc.options, 1);
@@ -191,6 +221,29 @@ TEST(FastPath, ANonFiniteStateIsNamedAsTheScalarPathNamesIt) {
   }
   EXPECT_FALSE(fast_error.empty());
   EXPECT_EQ(fast_error, scalar_error);
+}
+
+// A failure in the middle of a run() stops every thread at that step and names it; the
+// simulator runs again from a state put back.
+TEST(FastPath, AFailureInsideARunStopsAtItsStepAndTheSimulatorRunsOnAfterwards) {
+  const Scenario sc = load_scenario("block5");
+  const Model model = sc.build_model();
+  FastSimulator fast(model, sc.options, 2);
+  std::vector<double> z(50, sc.plate_z(model, 1));
+  State bad = initial_state(model);
+  bad.v[70].z() = std::numeric_limits<double>::infinity();
+  fast.set_state(bad);
+  try {
+    fast.run(z);
+    FAIL() << "ran through an infinite velocity";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("numerical failure at step 1 "), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(fast.steps(), 1);
+  fast.set_state(initial_state(model));
+  EXPECT_EQ(fast.run(z).size(), z.size());
+  EXPECT_EQ(fast.steps(), 51);
 }
 
 TEST(FastPath, StateRoundTripsThroughTheSlotLayout) {
