@@ -1,6 +1,7 @@
 // The object model of a specimen: the project's particle model (sim/mesh.hpp) of the block
-// the measurement file describes, run by the reference rheo::Simulator under the file's
-// plate history. This is the simulation users run on the reference and on the hardware, so
+// the measurement file describes, run by the double reference model (the `ref` backend: its
+// fast CPU path, or rheo::Simulator with SimulationOptions::cpu) under the file's plate
+// history. This is the simulation users run on the reference and on the hardware, so
 // a misfit found here is a misfit of the object simulation, not of a stand-in.
 //
 // Mesh: make_block with the file's geometry (x = width, y = depth, z = height; 2-D meshes

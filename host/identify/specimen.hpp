@@ -59,8 +59,9 @@ std::string coarse_mesh_description(const Geometry& g);
 
 // Which model of the specimen a fit runs.
 //  - kObject (the default): the project's particle model of the specimen (sim/mesh.hpp
-//    lattice or truss built from the file's geometry) run by the reference rheo::Simulator:
-//    the object the users simulate, see object_specimen.hpp.
+//    lattice or truss built from the file's geometry) run by the double reference model
+//    (fast CPU path by default, SimulationOptions::cpu): the object the users simulate, see
+//    object_specimen.hpp.
 //  - kColumn: the 1-D column above, a fast first guess (quasi-static, one edge).
 enum class SpecimenForm { kObject, kColumn };
 std::string specimen_form_name(SpecimenForm f);  // "object" or "column"
