@@ -57,4 +57,12 @@ Real signed_measure(int dim, const Vec* p, std::type_identity_t<Vec>* grad) {
   return volume;
 }
 
+// The factor of area/volume preservation on an element's measure gradient: the force on
+// vertex i is volume_pressure(kv, V, V0) dV/dx_i, the gradient of kv (V - V0)^2 / (2 |V0|).
+// Divided by |V0|: the signed measure is negative for a clockwise element.
+template <typename Real>
+Real volume_pressure(Real kv, Real volume, Real rest) {
+  return -kv * (volume - rest) / (rest < Real(0) ? -rest : rest);
+}
+
 }  // namespace rheo

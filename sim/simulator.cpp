@@ -260,9 +260,7 @@ void Simulator::add_volume_forces(const State& s, std::vector<Vec3>& f) const {
     for (int v = 0; v < nv; ++v) p[v] = s.x[element_vertex(model_, el, v)];
     const double vol = signed_measure<double>(model_.dim, p, grad);
     const double rest = rest_volume_[el];
-    // Divided by |V0|: the signed measure may be negative for a clockwise element, and the
-    // force must still be the gradient of kv (V - V0)^2 / (2 |V0|).
-    const double pressure = -model_.volume.kv * (vol - rest) / std::abs(rest);
+    const double pressure = volume_pressure(model_.volume.kv, vol, rest);
     for (int v = 0; v < nv; ++v) f[element_vertex(model_, el, v)] += pressure * grad[v];
   }
 }

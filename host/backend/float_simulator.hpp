@@ -153,7 +153,7 @@ class SieLoop {
       for (int k = 0; k < nv; ++k) p[k] = x_[element_vertex(model_, el, k)];
       const Real vol = signed_measure<Real>(model_.dim, p, grad);
       const Real rest = rest_volume_[el];
-      const Real pressure = -kv * (vol - rest) / (rest < Real(0) ? -rest : rest);
+      const Real pressure = volume_pressure(kv, vol, rest);
       for (int k = 0; k < nv; ++k)
         for (int c = 0; c < 3; ++c) f_[element_vertex(model_, el, k)][c] += pressure * grad[k][c];
     }

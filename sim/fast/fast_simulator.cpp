@@ -347,7 +347,7 @@ void FastSimulator::add_volume_forces(const std::vector<int>& elements, double* 
     }
     const double vol = signed_measure<double>(model_.dim, p, grad);
     const double rest = rest_volume_[el];
-    const double pressure = -model_.volume.kv * (vol - rest) / std::abs(rest);
+    const double pressure = volume_pressure(model_.volume.kv, vol, rest);
     for (int v = 0; v < nv; ++v) {
       for (int c = 0; c < 3; ++c) f[static_cast<std::size_t>(c) * stride_ + id[v]] += pressure * grad[v][c];
     }
