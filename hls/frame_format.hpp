@@ -41,7 +41,22 @@ enum Region : std::uint32_t {
   // Strain hardening (a core built with StrainHardening = 1; others flag a bad command):
   // hk, s_k, ct_h (packed), see hls::MaterialCoefs.
   kRegionMaterialHardening = 23,
-  kNumRegions = 24,  // the base regions, kMaxArms arms, the damper and hardening
+  // The sweep core (rtl/rheo_sweep_core.sv, hls/sweep_format.hpp; rheo_core refuses these):
+  //   kRegionSweepParticle: the static word of a particle (global index): out-mask, mass
+  //                         class, fixed, plate, has an edge into it
+  //   kRegionSweepEdge:     d and the tag {first, class} of sweep slot lane << 17 | n (the
+  //                         device read in the next step; kRegionEdgeLength reads d alone)
+  //   kRegionSweepLane:     a lane's slab first, count, ghost count, start delay
+  //   kRegionSweepOffset:   index offset k (0: unused)
+  //   kRegionSweepClass:    edge class c: L (X format), material index
+  //   kRegionSweepMass:     mass class: minv (packed)
+  kRegionSweepParticle = 24,
+  kRegionSweepEdge = 25,
+  kRegionSweepLane = 26,
+  kRegionSweepOffset = 27,
+  kRegionSweepClass = 28,
+  kRegionSweepMass = 29,
+  kNumRegions = 30,  // the base regions, kMaxArms arms, the damper, hardening, the sweep core's
 };
 
 // Parallel Maxwell arms a core can carry: one region pair each, in the header's region field.
@@ -50,7 +65,7 @@ inline constexpr int kMaxArms = 8;
 // Regions a core without Maxwell arms accepts.
 inline constexpr std::uint32_t kNumBaseRegions = kRegionMaterialArm;
 static_assert(kRegionMaterialDamper == kNumBaseRegions + 2 * kMaxArms);
-static_assert(kNumRegions == kRegionMaterialHardening + 1);
+static_assert(kNumRegions == kRegionSweepMass + 1);
 // Packed coefficients of a damper region entry.
 inline constexpr std::uint32_t kDamperCoefs = 6;
 // Packed coefficients of a hardening region entry.
@@ -75,7 +90,15 @@ inline constexpr bool is_edge_arm_region(std::uint32_t region) {
 
 inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1, 2, 1, 2,
                                                               1, 2, 1, 2, 1, 2, 1, 2, 1, 2, 1,
-                                                              kDamperCoefs, kHardeningCoefs};
+                                                              kDamperCoefs, kHardeningCoefs,
+                                                              1, 2, 4, 1, 2, 1};
+// The words of a sweep-core lane entry (kRegionSweepLane) and edge class entry.
+enum SweepLaneWord : std::uint32_t {
+  kSweepLaneFirst = 0,
+  kSweepLaneCount = 1,
+  kSweepLaneGhost = 2,
+  kSweepLaneDelay = 3,
+};
 
 enum GlobalRegister : std::uint32_t {
   kGlobalNumParticles = 0,
@@ -94,6 +117,9 @@ inline constexpr std::uint32_t kControlPlate = 1u << 1;
 // when its update would pass the plate (kPenetration).
 inline constexpr std::uint32_t kControlPlateHold = 1u << 2;
 inline constexpr std::uint32_t kStatusWords = 4;
+// Status word 3: the core's lanes [7:0]; this bit marks the sweep core (rtl/rheo_sweep_core.sv).
+inline constexpr std::uint32_t kStatusLanesMask = 0xFFu;
+inline constexpr std::uint32_t kStatusLanesSweep = 1u << 8;
 inline constexpr std::uint32_t kStatusClear = 1u << 0;
 
 // Particles and edges are partitioned over the lanes: particle i lives in bank i % lanes

@@ -6,6 +6,7 @@
 
 #include "hls/fixed_format.hpp"
 #include "hls/frame_format.hpp"
+#include "hls/sweep_format.hpp"
 
 namespace {
 
@@ -142,6 +143,38 @@ int main() {
         "material flags word: bits used");
   param("ParticleFlagsW", std::bit_width(unsigned(h::kCoreFixed | h::kCorePlate)),
         "particle flags word: bits used");
+  param("RegionSweepParticle", f::kRegionSweepParticle, "region (sweep core)");
+  param("RegionSweepEdge", f::kRegionSweepEdge, "region (sweep core)");
+  param("RegionSweepLane", f::kRegionSweepLane, "region (sweep core)");
+  param("RegionSweepOffset", f::kRegionSweepOffset, "region (sweep core)");
+  param("RegionSweepClass", f::kRegionSweepClass, "region (sweep core)");
+  param("RegionSweepMass", f::kRegionSweepMass, "region (sweep core)");
+  param("SweepLaneFirst", f::kSweepLaneFirst, "lane entry: slab's first particle");
+  param("SweepLaneCount", f::kSweepLaneCount, "lane entry: slab's particles");
+  param("SweepLaneGhost", f::kSweepLaneGhost, "lane entry: ghost particles");
+  param("SweepLaneDelay", f::kSweepLaneDelay, "lane entry: start delay");
+  param("StatusLanesSweep", f::kStatusLanesSweep, "status word 3: the sweep core");
+  param("SweepMaxLanes", h::kSweepMaxLanes, "sweep core: lanes at most");
+  param("SweepSlotLaneShift", h::kSweepSlotLaneShift, "sweep slot index: lane << shift | n");
+  param("ZbtAddrBits", h::kZbtAddrBits, "board SRAM: address bits (IDT71V3556)");
+  param("ZbtWordBits", h::kZbtWordBits, "board SRAM: word bits");
+  param("ZbtLatency", h::kZbtLatency, "board SRAM: clocks from address to data, both ways");
+  param("SweepClassBits", h::kSweepClassBits, "edge class bits in the SRAM word");
+  param("SweepEdgeClasses", h::kSweepEdgeClasses, "edge classes");
+  param("SweepOffsets", h::kSweepOffsets, "implicit topology: index offsets");
+  param("SweepOffsetBits", h::kSweepOffsetBits, "an offset's bits");
+  param("SweepMassBits", h::kSweepMassBits, "mass class bits");
+  param("SweepMassClasses", h::kSweepMassClasses, "mass classes");
+  param("SweepStaticMassShift", h::kSweepStaticMassShift, "static word: mass class");
+  param("SweepStaticFixedBit", h::kSweepStaticFixedBit, "static word: fixed");
+  param("SweepStaticPlateBit", h::kSweepStaticPlateBit, "static word: plate");
+  param("SweepStaticHasInBit", h::kSweepStaticHasInBit, "static word: an edge ends here");
+  param("SweepStaticBits", h::kSweepStaticBits, "static word bits");
+  param("SweepSumBits", h::kSweepSumBits, "sweep core force sums");
+  param("SweepCrossMinSlots", h::kSweepCrossMinSlots, "slots of a ghost particle at least");
+  param("SweepOwnMinSlots", h::kSweepOwnMinSlots, "slots of an own particle at least");
+  param("SweepLeadClocks", h::kSweepLeadClocks, "plate word to a lane's first slot");
+  param("SweepDrainCycles", h::kSweepDrainCycles, "cycles per step beyond the slowest lane");
   std::printf("\n  // Words per entry of each region.\n");
   std::printf(
       "  function automatic logic [EntryFieldW-1:0] words_per_entry(\n"

@@ -659,6 +659,12 @@ inline Coef unpack_coef(std::uint32_t w) {
   return c;
 }
 
+// The packed word of a coefficient (the inverse of unpack_coef).
+inline std::uint32_t pack_coef(const Coef& c) {
+  return (static_cast<std::uint32_t>(c.mant) & ((1u << kCoefMantBits) - 1)) |
+         (static_cast<std::uint32_t>(c.shift + kCoefShiftBias) << frame::kCoefShiftPos);
+}
+
 // normalize for values wider than a word (exact products).
 template <int B, Rounding R, int N>
 inline Operands<N> normalize_wide(const i128 (&v)[N]) {

@@ -75,7 +75,7 @@ package rheo_consts_pkg;
   localparam int HardDamperTemExtra = 52;  // rheo_tem with StrainHardening and SeriesDamper: extra latency
   localparam int RegionMaterialHardening = 23;  // region
   localparam int HardeningCoefs = 3;  // hardening material entry: packed coefficients
-  localparam int NumRegions = 24;  // regions
+  localparam int NumRegions = 30;  // regions
   localparam int GlobalNumParticles = 0;  // global register
   localparam int GlobalEdgeRows = 1;  // global register
   localparam int GlobalGravityX = 2;  // global register
@@ -107,6 +107,38 @@ package rheo_consts_pkg;
   localparam int MaterialArmCoefs = 2;  // arm material entry: packed coefficients
   localparam int MatFlagsW = 2;  // material flags word: bits used
   localparam int ParticleFlagsW = 2;  // particle flags word: bits used
+  localparam int RegionSweepParticle = 24;  // region (sweep core)
+  localparam int RegionSweepEdge = 25;  // region (sweep core)
+  localparam int RegionSweepLane = 26;  // region (sweep core)
+  localparam int RegionSweepOffset = 27;  // region (sweep core)
+  localparam int RegionSweepClass = 28;  // region (sweep core)
+  localparam int RegionSweepMass = 29;  // region (sweep core)
+  localparam int SweepLaneFirst = 0;  // lane entry: slab's first particle
+  localparam int SweepLaneCount = 1;  // lane entry: slab's particles
+  localparam int SweepLaneGhost = 2;  // lane entry: ghost particles
+  localparam int SweepLaneDelay = 3;  // lane entry: start delay
+  localparam int StatusLanesSweep = 256;  // status word 3: the sweep core
+  localparam int SweepMaxLanes = 8;  // sweep core: lanes at most
+  localparam int SweepSlotLaneShift = 17;  // sweep slot index: lane << shift | n
+  localparam int ZbtAddrBits = 17;  // board SRAM: address bits (IDT71V3556)
+  localparam int ZbtWordBits = 36;  // board SRAM: word bits
+  localparam int ZbtLatency = 2;  // board SRAM: clocks from address to data, both ways
+  localparam int SweepClassBits = 3;  // edge class bits in the SRAM word
+  localparam int SweepEdgeClasses = 8;  // edge classes
+  localparam int SweepOffsets = 16;  // implicit topology: index offsets
+  localparam int SweepOffsetBits = 8;  // an offset's bits
+  localparam int SweepMassBits = 4;  // mass class bits
+  localparam int SweepMassClasses = 16;  // mass classes
+  localparam int SweepStaticMassShift = 16;  // static word: mass class
+  localparam int SweepStaticFixedBit = 20;  // static word: fixed
+  localparam int SweepStaticPlateBit = 21;  // static word: plate
+  localparam int SweepStaticHasInBit = 22;  // static word: an edge ends here
+  localparam int SweepStaticBits = 23;  // static word bits
+  localparam int SweepSumBits = 36;  // sweep core force sums
+  localparam int SweepCrossMinSlots = 1;  // slots of a ghost particle at least
+  localparam int SweepOwnMinSlots = 2;  // slots of an own particle at least
+  localparam int SweepLeadClocks = 4;  // plate word to a lane's first slot
+  localparam int SweepDrainCycles = 64;  // cycles per step beyond the slowest lane
 
   // Words per entry of each region.
   function automatic logic [EntryFieldW-1:0] words_per_entry(
@@ -136,6 +168,12 @@ package rheo_consts_pkg;
       HeaderRegionBits'(21): words_per_entry = EntryFieldW'(1);
       HeaderRegionBits'(22): words_per_entry = EntryFieldW'(6);
       HeaderRegionBits'(23): words_per_entry = EntryFieldW'(3);
+      HeaderRegionBits'(24): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(25): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(26): words_per_entry = EntryFieldW'(4);
+      HeaderRegionBits'(27): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(28): words_per_entry = EntryFieldW'(2);
+      HeaderRegionBits'(29): words_per_entry = EntryFieldW'(1);
       default: words_per_entry = '0;
     endcase
   endfunction

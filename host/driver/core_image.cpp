@@ -43,10 +43,6 @@ void check_lanes(const char* who, int lanes) {
   }
 }
 
-std::uint32_t pack_coef(const hls::Coef& c) {
-  return (std::uint32_t(c.shift + hls::kCoefShiftBias) << frame::kCoefShiftPos) |
-         (std::uint32_t(c.mant) & ((1u << hls::kCoefMantBits) - 1));
-}
 
 // An element's vertices as (a, b, c, d) with a and c in one bank at every lane count the
 // element can run at: a pair equal mod 4 if there is one, else a pair equal mod 2 (four
@@ -532,7 +528,7 @@ void encode_elements(const Model& model, const ElementSchedule& esch, int edge_r
       // The words as the core holds them: V6_0's low 32 bits in L, the rest in d; then
       // the packed coefficient in L and a triangle's Y (or 0) in d.
       ee.L = half == 0 ? std::int64_t(std::int32_t(std::uint32_t(std::uint64_t(words.v0))))
-                       : std::int64_t(pack_coef(words.c));
+                       : std::int64_t(hls::pack_coef(words.c));
       ee.d = half == 0 ? (words.v0 >> 32) : words.y;
     }
   }
@@ -767,10 +763,8 @@ CoreImage make_core_image(const Model& model_in, const State& state, double dt, 
   return img;
 }
 
-namespace {
-
-void write_command(std::vector<std::uint32_t>& out, frame::Region region, std::uint32_t start,
-                   const std::vector<std::uint32_t>& words) {
+void append_write(std::vector<std::uint32_t>& out, frame::Region region, std::uint32_t start,
+                  const std::vector<std::uint32_t>& words) {
   const std::uint32_t wpe = frame::kWordsPerEntry[region];
   // Keep each command below the 24-bit count.
   const std::uint32_t max_entries = 1u << 20;
@@ -784,34 +778,49 @@ void write_command(std::vector<std::uint32_t>& out, frame::Region region, std::u
   }
 }
 
-}  // namespace
+std::vector<std::uint32_t> globals_words(const CoreImage& img) {
+  return {std::uint32_t(img.num_particles),
+          std::uint32_t(img.edge_rows),
+          std::uint32_t(img.globals.g[0]),
+          std::uint32_t(img.globals.g[1]),
+          std::uint32_t(img.globals.g[2]),
+          (img.globals.floor_enable ? frame::kControlFloor : 0u) |
+              (img.globals.plate_enable ? frame::kControlPlate : 0u) |
+              (img.globals.plate_hold ? frame::kControlPlateHold : 0u)};
+}
+
+std::vector<std::uint32_t> material_words(const CoreImage& img) {
+  std::vector<std::uint32_t> w;
+  for (const auto& m : img.materials) {
+    for (const hls::Coef* c : {&m.alpha, &m.beta, &m.kt, &m.ct, &m.a_min, &m.a_max})
+      w.push_back(hls::pack_coef(*c));
+    w.push_back(m.flags);
+  }
+  return w;
+}
+
+std::vector<std::uint32_t> particle_state_words(const CoreImage& img) {
+  std::vector<std::uint32_t> w;
+  for (const auto& q : img.particles) {
+    for (int a = 0; a < 3; ++a) w.push_back(std::uint32_t(q.x[a]));
+    for (int a = 0; a < 3; ++a) w.push_back(std::uint32_t(q.p[a]));
+  }
+  return w;
+}
 
 std::vector<std::uint32_t> image_frames(const CoreImage& img) {
   if (img.format.width != 32) throw Error("frames carry 32-bit words: only the hardware format");
   std::vector<std::uint32_t> out;
   std::vector<std::uint32_t> w;
-  w = {std::uint32_t(img.num_particles),
-       std::uint32_t(img.edge_rows),
-       std::uint32_t(img.globals.g[0]),
-       std::uint32_t(img.globals.g[1]),
-       std::uint32_t(img.globals.g[2]),
-       (img.globals.floor_enable ? frame::kControlFloor : 0u) |
-           (img.globals.plate_enable ? frame::kControlPlate : 0u) |
-           (img.globals.plate_hold ? frame::kControlPlateHold : 0u)};
-  write_command(out, frame::kRegionGlobals, 0, w);
-  w.clear();
-  for (const auto& q : img.particles) {
-    for (int a = 0; a < 3; ++a) w.push_back(std::uint32_t(q.x[a]));
-    for (int a = 0; a < 3; ++a) w.push_back(std::uint32_t(q.p[a]));
-  }
-  write_command(out, frame::kRegionParticleState, 0, w);
+  append_write(out, frame::kRegionGlobals, 0, globals_words(img));
+  append_write(out, frame::kRegionParticleState, 0, particle_state_words(img));
   w.clear();
   for (const auto& q : img.particles) {
     for (int a = 0; a < 3; ++a) w.push_back(std::uint32_t(q.x0[a]));
-    w.push_back(pack_coef(q.minv));
+    w.push_back(hls::pack_coef(q.minv));
     w.push_back(q.flags);
   }
-  write_command(out, frame::kRegionParticleStatic, 0, w);
+  append_write(out, frame::kRegionParticleStatic, 0, w);
   w.clear();
   for (const auto& e : img.edges) {
     w.push_back(e.valid ? (e.s_local | (e.e_local << frame::kEdgeEndLocalShift) |
@@ -823,39 +832,33 @@ std::vector<std::uint32_t> image_frames(const CoreImage& img) {
     w.push_back(std::uint32_t(e.d));
     w.push_back(e.material);
   }
-  write_command(out, frame::kRegionEdge, 0, w);
-  w.clear();
-  for (const auto& m : img.materials) {
-    for (const hls::Coef* c : {&m.alpha, &m.beta, &m.kt, &m.ct, &m.a_min, &m.a_max})
-      w.push_back(pack_coef(*c));
-    w.push_back(m.flags);
-  }
-  write_command(out, frame::kRegionMaterial, 0, w);
+  append_write(out, frame::kRegionEdge, 0, w);
+  append_write(out, frame::kRegionMaterial, 0, material_words(img));
   if (img.element.series_damper) {
     w.clear();
     for (const auto& m : img.materials) {
       for (const hls::Coef* c : {&m.d_lo, &m.d_span, &m.zk, &m.s_base, &m.s_c2, &m.ka})
-        w.push_back(pack_coef(*c));
+        w.push_back(hls::pack_coef(*c));
     }
-    write_command(out, frame::kRegionMaterialDamper, 0, w);
+    append_write(out, frame::kRegionMaterialDamper, 0, w);
   }
   if (img.element.strain_hardening) {
     w.clear();
     for (const auto& m : img.materials) {
-      for (const hls::Coef* c : {&m.hk, &m.s_k, &m.ct_h}) w.push_back(pack_coef(*c));
+      for (const hls::Coef* c : {&m.hk, &m.s_k, &m.ct_h}) w.push_back(hls::pack_coef(*c));
     }
-    write_command(out, frame::kRegionMaterialHardening, 0, w);
+    append_write(out, frame::kRegionMaterialHardening, 0, w);
   }
   for (int j = 0; j < img.element.maxwell_arms; ++j) {
     w.clear();
     for (const auto& m : img.materials) {
-      w.push_back(pack_coef(m.gamma[j]));
-      w.push_back(pack_coef(m.k2t[j]));
+      w.push_back(hls::pack_coef(m.gamma[j]));
+      w.push_back(hls::pack_coef(m.k2t[j]));
     }
-    write_command(out, frame::material_arm_region(j), 0, w);
+    append_write(out, frame::material_arm_region(j), 0, w);
     w.clear();
     for (const auto& e : img.edges) w.push_back(std::uint32_t(e.m[j]));
-    write_command(out, frame::edge_arm_region(j), 0, w);
+    append_write(out, frame::edge_arm_region(j), 0, w);
   }
   return out;
 }

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "hls/edge_element.hpp"
+#include "hls/frame_format.hpp"
 #include "hls/rheo_kernel.hpp"
 #include "sim/model.hpp"
 
@@ -169,6 +170,15 @@ double decode_coef(const hls::Coef& c);
 
 // Frame words of the whole image (a sequence of write commands), hardware format only.
 std::vector<std::uint32_t> image_frames(const CoreImage& image);
+// Pieces of it that the sweep core's image shares (host/driver/sweep_image.cpp): write
+// commands of `words` (whole entries of `region`) from entry `start`, split below the
+// header's count; the words of region Globals, of region Material (base coefficients and
+// flags) and of region ParticleState.
+void append_write(std::vector<std::uint32_t>& out, frame::Region region, std::uint32_t start,
+                  const std::vector<std::uint32_t>& words);
+std::vector<std::uint32_t> globals_words(const CoreImage& image);
+std::vector<std::uint32_t> material_words(const CoreImage& image);
+std::vector<std::uint32_t> particle_state_words(const CoreImage& image);
 
 // Loads the image straight into a bit-true core memory (any format).
 void load_memory(const CoreImage& image, hls::CoreMemory& mem);

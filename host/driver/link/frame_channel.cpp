@@ -91,7 +91,8 @@ std::uint32_t CommandTracker::accept(std::uint32_t word) {
       std::snprintf(hex, sizeof hex, "0x%08X", word);
       throw LinkError(LinkFault::kProtocol,
                       "command word " + std::to_string(words_seen_ - 1) + " = " + hex +
-                          " is not a valid header (expected opcode 1..4, region 0..6)");
+                          " is not a valid header (expected opcode 1..4, region 0.." +
+                          std::to_string(frame::kNumRegions - 1) + ")");
     }
     case Phase::kWriteIndex:
       phase_ = remaining_ > 0 ? Phase::kWriteData : Phase::kHeader;

@@ -1,0 +1,218 @@
+// The sweep core's bit-true kernel (hls/sweep_kernel.hpp) and its image
+// (host/driver/sweep_image.cpp) against rheo_core's kernel (hls::core_step) on the same
+// model with every edge oriented from its lower to its higher particle: every plate force,
+// particle word and Voigt length equal, every step, across lane counts and models; the
+// image's cycle formula equal to the kernel's; and the models the core refuses, refused
+// with the reason.
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <memory>
+#include <numeric>
+#include <random>
+
+#include "hls/sweep_kernel.hpp"
+#include "host/driver/core_image.hpp"
+#include "host/driver/sweep_image.hpp"
+#include "sim/error.hpp"
+#include "sim/scenario.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo::driver {
+namespace {
+
+using Fmt = hls::HardwareFormat;
+
+// Runs `steps` steps of the scenario's protocol on both kernels; returns the number of
+// words that differ (0 expected) and checks the cycle formulas.
+long compare(const Scenario& s, const Model& model_in, int lanes, long steps,
+             const std::function<void(hls::SweepMemory&)>& corrupt = {}) {
+  const Model model = orient_edges_low_to_high(model_in);
+  const State start = initial_state(model);
+  SweepCoreShape shape;
+  shape.lanes = lanes;
+  const SweepImage img = make_sweep_image(model, start, s.options.dt, shape);
+  auto sweep = std::make_unique<hls::SweepMemory>();
+  load_sweep_memory(img, *sweep);
+  EXPECT_EQ(hls::sweep_cycles(*sweep), img.cycles_per_step);
+  for (int j = 0; j < lanes; ++j) EXPECT_EQ(hls::sweep_lane_slots(*sweep, j), img.lane[j].slots);
+  if (corrupt) corrupt(*sweep);
+  const CoreImage core_img = make_core_image(model, start, s.options.dt, 1);
+  auto core = std::make_unique<hls::CoreMemory>();
+  load_memory(core_img, *core);
+  long differ = 0;
+  for (long n = 1; n <= steps && differ == 0; ++n) {
+    const std::int64_t z = to_x_word(s.plate_z(model, n), img.base, "plate");
+    hls::start_step(sweep->globals, z);
+    hls::start_step(core->globals, z);
+    const std::int64_t fs = hls::sweep_step<Fmt>(*sweep);
+    const std::int64_t fc = hls::core_step<Fmt>(*core);
+    EXPECT_EQ(sweep->status, core->status) << "step " << n;
+    if (fs != fc) ++differ;
+    for (int i = 0; i < img.base.num_particles; ++i)
+      for (int a = 0; a < 3; ++a)
+        differ += (sweep->x[i][a] != core->particles[i].x[a]) + (sweep->p[i][a] != core->particles[i].p[a]);
+    for (std::size_t k = 0; k < model.edges.size(); ++k) {
+      const std::uint32_t slot = img.edge_slot[k];
+      const hls::SweepEdgeWord w = hls::SweepEdgeWord::unpack(
+          sweep->sram[slot >> hls::kSweepSlotLaneShift][sweep->sram_read]
+                     [slot & ((1u << hls::kSweepSlotLaneShift) - 1)]);
+      differ += w.d != core->edges[core_img.edge_slot[k]].d;
+    }
+  }
+  return differ;
+}
+
+Scenario lattice(int nx, int ny, int nz) {
+  Scenario s = load_scenario("block5");
+  s.block.nx = nx;
+  s.block.ny = ny;
+  s.block.nz = nz;
+  return s;
+}
+
+TEST(SweepKernel, Block5EqualsCoreStepAtOneToFourLanes) {
+  const Scenario s = load_scenario("block5");
+  for (int lanes = 1; lanes <= 4; ++lanes)
+    EXPECT_EQ(compare(s, s.build_model(), lanes, 400), 0) << lanes << " lanes";
+}
+
+TEST(SweepKernel, Block15EqualsCoreStepAtFiveLanes) {
+  const Scenario s = load_scenario("block15");
+  EXPECT_EQ(compare(s, s.build_model(), 5, 30), 0);
+}
+
+TEST(SweepKernel, LatticesWithGravityFixedFloorAndHoldingPlateEqualCoreStep) {
+  for (const auto& [nx, ny, nz] : {std::array{6, 4, 9}, std::array{3, 7, 12}, std::array{9, 9, 5}}) {
+    Scenario s = lattice(nx, ny, nz);
+    s.plate_contact = PlateContact::kHoldWhilePushing;
+    s.block.fix_bottom = true;
+    Model m = s.build_model();
+    m.plate_contact = PlateContact::kHoldWhilePushing;
+    for (int lanes : {2, 3})
+      EXPECT_EQ(compare(s, m, lanes, 300), 0) << nx << "x" << ny << "x" << nz << ", " << lanes;
+  }
+}
+
+TEST(SweepKernel, EdgesGivenHighToLowRunTheOrientedModel) {
+  const Scenario s = lattice(4, 4, 6);
+  Model m = s.build_model();
+  for (std::size_t k = 0; k < m.edges.size(); k += 3) std::swap(m.edges[k].s, m.edges[k].e);
+  EXPECT_EQ(compare(s, m, 2, 200), 0);
+}
+
+TEST(SweepKernel, AWrongFirstTagChangesTheWords) {
+  // The comparison can fail: an edge that adds to last step's end sum instead of starting
+  // it afresh gives different words.
+  const Scenario s = load_scenario("block5");
+  const long differ = compare(s, s.build_model(), 2, 50, [](hls::SweepMemory& m) {
+    for (int n = 0; n < 400; ++n) {
+      hls::SweepEdgeWord w = hls::SweepEdgeWord::unpack(m.sram[1][m.sram_read][n]);
+      if (!w.first) continue;
+      w.first = false;
+      m.sram[1][m.sram_read][n] = w.pack();
+      return;
+    }
+  });
+  EXPECT_GT(differ, 0);
+}
+
+TEST(SweepKernel, SlabsAreContiguousBalancedAndTheirGhostsCoverTheCrossEdges) {
+  const Scenario s = load_scenario("block15");
+  const Model m = s.build_model();
+  const SweepImage img = make_sweep_image(m, initial_state(m), s.options.dt, SweepCoreShape{});
+  ASSERT_EQ(img.lanes_used, 5);
+  long edges = 0, worst = 0;
+  for (int j = 0; j < 5; ++j) {
+    const SweepLaneImage& l = img.lane[j];
+    if (j > 0) {
+      EXPECT_EQ(l.first, img.lane[j - 1].first + img.lane[j - 1].count);
+    }
+    EXPECT_LE(l.count, hls::kSweepSlabDepth);
+    EXPECT_LE(l.ghost, hls::kSweepGhostDepth);
+    EXPECT_EQ(long(l.stream.size()), l.cross_edges + l.own_edges);
+    edges += l.cross_edges + l.own_edges;
+    worst = std::max(worst, long(l.delay) + l.slots);
+  }
+  EXPECT_EQ(edges, m.num_edges());
+  // Balanced to within 1 % of E / L.
+  EXPECT_LT(double(worst), 1.01 * double(m.num_edges()) / 5.0);
+  EXPECT_EQ(img.cycles_per_step, worst + hls::kSweepDrainCycles);
+}
+
+void expect_refused(const Model& m, double dt, int lanes, const std::string& words,
+                    int ghost_depth = hls::kSweepGhostDepth) {
+  SweepCoreShape shape;
+  shape.lanes = lanes;
+  shape.ghost_depth = ghost_depth;
+  try {
+    make_sweep_image(m, initial_state(m), dt, shape);
+    ADD_FAILURE() << "not refused: " << words;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(SweepKernel, ModelsTheCoreCannotTakeAreRefusedWithTheReason) {
+  const Scenario s = load_scenario("block5");
+  const Model base = s.build_model();
+  // A ghost copy smaller than the edges' reach (31 particles in block5).
+  expect_refused(base, s.options.dt, 2, "ghost copy of", 16);
+  // More offsets than the mask has bits: a random shuffle of the particle numbers.
+  Model shuffled = base;
+  std::vector<int> perm(base.num_particles());
+  std::iota(perm.begin(), perm.end(), 0);
+  std::shuffle(perm.begin(), perm.end(), std::mt19937(3));
+  for (Edge& e : shuffled.edges) {
+    e.s = perm[e.s];
+    e.e = perm[e.e];
+  }
+  expect_refused(shuffled, s.options.dt, 1, "index offsets");
+  // More (L, material) pairs than the class table holds.
+  Model lengths = base;
+  for (std::size_t k = 0; k < lengths.edges.size(); ++k) lengths.edges[k].L *= 1.0 + 1e-3 * double(k % 9);
+  expect_refused(lengths, s.options.dt, 1, "natural length, material");
+  // More masses than the mass table holds.
+  Model masses = base;
+  for (int i = 0; i < masses.num_particles(); ++i) masses.mass[i] *= 1.0 + 0.01 * double(i % 17);
+  expect_refused(masses, s.options.dt, 1, "different masses");
+  // Two edges joining the same pair.
+  Model twice = base;
+  twice.edges.push_back(twice.edges.front());
+  expect_refused(twice, s.options.dt, 1, "one edge per pair");
+}
+
+TEST(SweepKernel, SlabsThinnerThanTheReachTakeFewerLanes) {
+  // block5's edges reach 31 particles up; five slabs of 25 would put an edge two slabs
+  // up, so the cut uses four lanes (and the image says so).
+  const Scenario s = load_scenario("block5");
+  const Model m = s.build_model();
+  SweepCoreShape shape;
+  shape.lanes = 5;
+  const SweepImage img = make_sweep_image(m, initial_state(m), s.options.dt, shape);
+  EXPECT_EQ(img.lanes_used, 4);
+  EXPECT_EQ(img.lane[4].count, 0);
+  for (int j = 1; j < img.lanes_used; ++j)
+    EXPECT_GE(img.lane[j].first - img.lane[j].ghost, img.lane[j - 1].first);
+}
+
+TEST(SweepKernel, AFixedParticleAwayFromHomeIsRefused) {
+  Scenario s = load_scenario("block5");
+  s.block.fix_bottom = true;
+  const Model m = s.build_model();
+  State st = initial_state(m);
+  for (int i = 0; i < m.num_particles(); ++i)
+    if (m.flags[i] == kFixed) {
+      st.x[i][0] += 1e-4;
+      break;
+    }
+  try {
+    make_sweep_image(m, st, s.options.dt, SweepCoreShape{});
+    ADD_FAILURE() << "not refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("home position"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rheo::driver
