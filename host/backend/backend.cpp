@@ -18,6 +18,12 @@ const std::vector<Registration>& registry() {
        [](const std::string& path, const Options& o) {
          return make_device_backend("remote:" + path, o);
        }},
+      {"sweep", "",
+       "the sweep core (block15 on one XC2V6000; docs/sweep_core.md), verilated with its board "
+       "SRAM, in process (builds with RHEO_WITH_RTL)",
+       [](const std::string&, const Options& o) { return make_sweep_backend("sweep", o); }},
+      {"sweep-bittrue", "", "the sweep core's bit-true model (hls/sweep_kernel.hpp), in process",
+       [](const std::string&, const Options& o) { return make_sweep_backend("sweep-bittrue", o); }},
       {"fixed", "FORMAT",
        "the bit-true arithmetic in another fixed-point format, e.g. q27_nearest_op18 (the "
        "hardware's) or q35_nearest (the `rheo fixed` sweep)",

@@ -86,8 +86,15 @@ class Backend {
   // units; the reference's CPU path as "cpu_path", and as "cpu_note" why it is not the fast
   // one); empty where there is nothing to add.
   virtual nlohmann::json describe() const { return nlohmann::json::object(); }
+  // The model as this backend computes it, from the model a caller would load: a core that
+  // needs another form of the same model (the sweep core: every edge from its lower to its
+  // higher particle) says so here, so that cores compared word for word run the same words.
+  virtual Model prepared(const Model& model) const { return model; }
   // The core's clocks where the backend is a core (empty for the reference and float).
   virtual std::optional<CoreClock> clock() { return std::nullopt; }
+  // Clocks per step by the core's documented formula, where the backend knows it from the
+  // loaded model (empty: the caller uses rheo_core's, driver::cycles_per_step_formula).
+  virtual std::optional<long> cycles_per_step_formula() const { return std::nullopt; }
   // Waveform (rtl with Options::trace_fst): on or off for the steps that follow, and the
   // waveform's current time, to mark which steps it covers.
   virtual void set_tracing(bool /*on*/) {}
@@ -107,7 +114,7 @@ const std::vector<Registration>& registry();
 // Makes the backend `spec` names ("ref", "float", "bittrue", "rtl", "remote:PATH"). Throws
 // rheo::Error for an unknown name, listing the accepted ones.
 std::unique_ptr<Backend> make_backend(const std::string& spec, const Options& options = {});
-// "ref, float, bittrue, rtl, remote:PATH or fixed:FORMAT", for help texts and errors.
+// "ref, float, bittrue, rtl, remote:PATH, sweep, sweep-bittrue or fixed:FORMAT", for help texts and errors.
 std::string backend_names();
 
 // For backends that step the hardware's rule (semi-implicit Euler): checks the step of
@@ -121,6 +128,7 @@ std::unique_ptr<Backend> make_reference_backend(const std::string&, const Option
 std::unique_ptr<Backend> make_float_backend(const std::string&, const Options&);
 std::unique_ptr<Backend> make_device_backend(const std::string& device, const Options&);
 std::unique_ptr<Backend> make_fixed_format_backend(const std::string& format, const Options&);
+std::unique_ptr<Backend> make_sweep_backend(const std::string& spec, const Options&);
 
 // The formats of make_fixed_format_backend: the fractional position widths of the sweep
 // (nearest or truncating rounding, full-width operands), and a format's spec text

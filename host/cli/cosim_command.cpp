@@ -11,6 +11,7 @@
 
 #include "hls/edge_element.hpp"
 #include "hls/fixed_format.hpp"
+#include "hls/sweep_format.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/output/json_text.hpp"
@@ -66,6 +67,10 @@ void run(const CosimArgs& args) {
   opt.steps = args.steps ? static_cast<long>(*args.steps) : scenario.default_steps();
   opt.lanes = args.lanes;
   opt.dut = args.dut;
+  const bool sweep = args.dut == "sweep" || args.dut == "sweep-bittrue";
+  if (sweep && args.lanes != hls::kDefaultLanes)
+    throw Error("cosim: --lanes " + std::to_string(args.lanes) +
+                ": the sweep core has its own lanes (five; its image says how many a model uses)");
   opt.input_idle_prob = args.idle_prob;
   opt.output_stall_prob = args.stall_prob;
   opt.seed = args.seed;
@@ -100,17 +105,26 @@ void run(const CosimArgs& args) {
   j["cycles_per_step_measured"] = r.cycles_per_step_measured;
   j["cycles_per_step_formula"] = r.cycles_per_step_formula;
   const hls::EdgeElement* element = hls::find_edge_element(r.element);
-  j["cycles_per_step_formula_text"] =
-      "max(R,1) + " +
-      std::to_string(element ? element->tem_drain_cycles() : driver::kTemDrainCycles) +
-      " + ceil(N/lanes) + " +
-      std::to_string(driver::kMpmDrainCycles) + ", R = rows of the edge schedule";
+  if (sweep) {
+    j["cycles_per_step_formula_text"] =
+        "max over lanes of (start delay + slots) + " + std::to_string(hls::kSweepDrainCycles) +
+        "; slots = max(1, cross edges) per ghost particle + max(2, own edges) per own particle";
+    j["sweep_core"] = r.dut_description;
+  } else {
+    j["cycles_per_step_formula_text"] =
+        "max(R,1) + " +
+        std::to_string(element ? element->tem_drain_cycles() : driver::kTemDrainCycles) +
+        " + ceil(N/lanes) + " + std::to_string(driver::kMpmDrainCycles) +
+        ", R = rows of the edge schedule";
+  }
   j["sim_cycles"] = r.sim_cycles;
   j["sim_cycles_per_s"] = r.sim_cycles_per_s;
   j["particles"] = r.particles;
   j["edges"] = r.edges;
-  j["edge_rows"] = r.edge_rows;
-  j["edge_bubbles"] = long(r.edge_rows) * r.lanes - r.edges;
+  if (!sweep) {
+    j["edge_rows"] = r.edge_rows;
+    j["edge_bubbles"] = long(r.edge_rows) * r.lanes - r.edges;
+  }
   j["length_unit_m"] = r.length_unit_m;
   j["force_unit_N"] = r.force_unit_N;
   j["dt_s"] = r.dt_s;
@@ -137,8 +151,11 @@ void run(const CosimArgs& args) {
   // investigation, and the command still fails.
   out.commit();
 
-  std::cout << "cosim " << scenario.name << ": " << r.steps << " steps, " << r.lanes
-            << " lane(s), mismatches " << r.mismatches << "\n"
+  std::cout << "cosim " << scenario.name << ": " << r.dut_name << " against " << r.golden_name
+            << ", " << r.steps << " steps, " << r.lanes << " lane(s)"
+            << (sweep ? " (" + std::to_string(r.dut_description.value("lanes_used", 0)) + " used)"
+                      : std::string())
+            << ", mismatches " << r.mismatches << "\n"
             << "  fixed vs double: max position error " << r.max_pos_err_rel
             << " of the object size (RMS " << r.rms_pos_err_rel << "), plate force error "
             << r.max_force_err_rel << " of the peak\n"
@@ -198,8 +215,10 @@ void register_cosim(CLI::App& app) {
   add_output_options(cmd, args->output);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress on stderr");
   cmd->add_option("--backend", args->dut,
-                  "the core under test, compared word for word with bittrue: rtl (default) or "
-                  "remote:PATH (a cosim-server's core)")
+                  "the core under test, compared word for word with bittrue: rtl (default, "
+                  "rheo_core), remote:PATH (a cosim-server's core), sweep (the sweep core, "
+                  "block15 on one XC2V6000, with its board SRAM; docs/sweep_core.md) or "
+                  "sweep-bittrue")
       ->capture_default_str();
   cmd->add_option("--idle-prob", args->idle_prob,
                   "rtl: probability per clock of an idle cycle on the core's input stream "

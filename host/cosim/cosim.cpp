@@ -47,13 +47,6 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
                                         : hls::find_edge_element(opt.element);
   if (!element) throw Error("cosim: unknown edge element '" + opt.element + "'");
   res.element = std::string(element->name);
-  const Model model = driver::hardware_model(full, &res.dropped_features, *element);
-  const double dt = scenario.options.dt;
-  const State start = initial_state(model);
-  // The image the cores hold, for the figures (units, schedule rows, cycle formula).
-  const CoreImage image =
-      driver::make_core_image(model, start, dt, opt.lanes, driver::FormatDesc{}, *element);
-
   backend::Options bo;
   bo.lanes = opt.lanes;
   bo.trace_fst = opt.trace_fst;
@@ -64,6 +57,16 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   backend::Options go;
   go.lanes = opt.lanes;
   const std::unique_ptr<backend::Backend> golden = backend::make_backend(opt.golden, go);
+  // The model every side runs: the core under test's form of the hardware's model (the
+  // sweep core's edges run from the lower to the higher particle), so that the golden core
+  // computes the same words.
+  const Model model =
+      dut->prepared(driver::hardware_model(full, &res.dropped_features, *element));
+  const double dt = scenario.options.dt;
+  const State start = initial_state(model);
+  // The image rheo_core holds, for the figures (units, schedule rows, cycle formula).
+  const CoreImage image =
+      driver::make_core_image(model, start, dt, opt.lanes, driver::FormatDesc{}, *element);
   dut->load(model, start, scenario.options);
   golden->load(model, start, scenario.options);
   res.dut_name = opt.dut;
@@ -75,8 +78,10 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   res.length_unit_m = image.units.length_m;
   res.force_unit_N = image.units.force_N;
   res.dt_s = dt;
-  res.cycles_per_step_formula =
-      driver::cycles_per_step_formula(image.edge_rows, image.num_particles, opt.lanes, *element);
+  res.cycles_per_step_formula = dut->cycles_per_step_formula().value_or(
+      driver::cycles_per_step_formula(image.edge_rows, image.num_particles, opt.lanes, *element));
+  res.dut_description = dut->describe();
+  if (res.dut_description.contains("lanes")) res.lanes = res.dut_description["lanes"].get<int>();
   const std::optional<backend::CoreClock> clock_start = dut->clock();
 
   std::unique_ptr<backend::Backend> ref;

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "host/driver/gtkw.hpp"
 #include "sim/scenario.hpp"
 
@@ -66,6 +68,7 @@ struct CosimResult {
   int particles = 0, edges = 0, edge_rows = 0, lanes = 0;
   double length_unit_m = 0.0, force_unit_N = 0.0, dt_s = 0.0;
   std::string dut_name, golden_name;  // what ran (Backend::name)
+  nlohmann::json dut_description;     // Backend::describe() of the core under test
   std::string element;  // the cores' edge element (hls::EdgeElement::name)
   std::vector<std::string> dropped_features;
   std::vector<double> force_fixed_N, force_ref_N;  // per step

@@ -25,14 +25,21 @@ std::string describe_status_flags(std::uint32_t flags) {
 
 Device::Device(std::unique_ptr<Transport> transport) : transport_(std::move(transport)) {}
 
-void Device::load(const CoreImage& image) {
-  transport_->send(image_frames(image));
+void Device::load(const CoreImage& image) { load_frames(image_frames(image), image.lanes, false); }
+
+void Device::load_frames(const std::vector<std::uint32_t>& frames, int lanes, bool sweep) {
+  transport_->send(frames);
   const CoreStatus st = read_status(true);
   if (st.flags & hls::kStatusBadCommand) {
     throw Error(transport_->name() + ": the core rejected the model image (bad command)");
   }
-  if (st.lanes != static_cast<std::uint32_t>(image.lanes)) {
-    throw Error(transport_->name() + ": image built for " + std::to_string(image.lanes) +
+  if (st.sweep != sweep) {
+    throw Error(transport_->name() + ": image built for " +
+                (sweep ? "the sweep core" : "rheo_core") + ", the core is " +
+                (st.sweep ? "the sweep core" : "rheo_core"));
+  }
+  if (st.lanes != static_cast<std::uint32_t>(lanes)) {
+    throw Error(transport_->name() + ": image built for " + std::to_string(lanes) +
                 " lanes, core has " + std::to_string(st.lanes));
   }
 }
@@ -84,7 +91,7 @@ CoreStatus Device::read_status(bool clear) {
   transport_->send(
       {frame::header(frame::kOpStatus, frame::kRegionGlobals, clear ? frame::kStatusClear : 0u)});
   const std::vector<std::uint32_t> w = transport_->receive(frame::kStatusWords);
-  return {w[0], w[1], w[2], w[3]};
+  return {w[0], w[1], w[2], w[3] & frame::kStatusLanesMask, (w[3] & frame::kStatusLanesSweep) != 0};
 }
 
 }  // namespace rheo::driver

@@ -19,6 +19,7 @@ struct CoreStatus {
   std::uint32_t step_count = 0;  // steps completed since reset
   std::uint32_t cycles = 0;      // compute clocks since reset (wraps at 2^32)
   std::uint32_t lanes = 0;       // lanes of the core
+  bool sweep = false;            // the sweep core (rtl/rheo_sweep_core.sv), not rheo_core
 };
 
 // Names the raised status bits, e.g. "TEM saturation, degenerate edge".
@@ -29,6 +30,10 @@ class Device {
   explicit Device(std::unique_ptr<Transport> transport);
 
   void load(const CoreImage& image);
+  // Loads an image given as frames (the sweep core's, host/driver/sweep_image.hpp) into a
+  // core of this kind with `lanes` lanes; throws when the core refuses a command or is
+  // another kind.
+  void load_frames(const std::vector<std::uint32_t>& frames, int lanes, bool sweep);
   // Runs plate_words.size() steps; returns the plate force word of each step. Throws
   // rheo::Error if the core raised an overflow flag during the run.
   std::vector<std::int32_t> run(const std::vector<std::int32_t>& plate_words);

@@ -20,6 +20,7 @@
 #include "Vrheo_core_l2.h"
 #include "Vrheo_core_l4.h"
 #include "Vrheo_core_xinit_l1.h"
+#include "Vrheo_sweep_l5.h"
 #pragma GCC diagnostic pop
 
 #include <chrono>
@@ -191,8 +192,12 @@ class Harness : public VerilatorTransport::Impl {
 
 }  // namespace
 
-VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
-  if (o.power_up_seed != 0) {
+VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) : sweep_(o.sweep) {
+  if (o.sweep) {
+    if (o.lanes != 5 || o.power_up_seed != 0 || o.element != hls::kThreeElement)
+      throw Error("RTL sweep core: built with 5 lanes, the three-element edge and zero power-up");
+    impl_ = std::make_unique<Harness<Vrheo_sweep_l5>>(o);
+  } else if (o.power_up_seed != 0) {
     if (o.lanes != 1 || o.element != hls::kThreeElement)
       throw Error("RTL core with random power-up state: built for 1 lane without the arm");
     impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
@@ -237,7 +242,9 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) {
 VerilatorTransport::~VerilatorTransport() = default;
 void VerilatorTransport::send(const std::vector<std::uint32_t>& w) { impl_->send(w); }
 std::vector<std::uint32_t> VerilatorTransport::receive(std::size_t n) { return impl_->receive(n); }
-std::string VerilatorTransport::name() const { return "RTL core (Verilator)"; }
+std::string VerilatorTransport::name() const {
+  return sweep_ ? "RTL sweep core (Verilator)" : "RTL core (Verilator)";
+}
 std::uint64_t VerilatorTransport::cycles() const { return impl_->cycles; }
 std::uint64_t VerilatorTransport::trace_time() const { return impl_->time(); }
 double VerilatorTransport::wall_seconds() const { return impl_->wall; }

@@ -1,4 +1,4 @@
-// In-process transport to the verilated RTL core (rtl/rheo_core.sv). Words are pushed
+// In-process transport to a verilated RTL core (rtl/rheo_core.sv or the sweep core). Words are pushed
 // into s_axis and pulled from m_axis clock by clock, with optional random idle cycles on
 // the input side and random back-pressure on the output side (seeded), so every run also
 // exercises the stream handshakes. Optionally writes an FST waveform. The cores are built
@@ -16,7 +16,10 @@
 namespace rheo::driver {
 
 struct VerilatorOptions {
-  int lanes = 1;                   // 1, 2 or 4 (the verilated variants)
+  // The sweep core (rtl/rheo_sweep_core.sv with its SRAM models, rtl/rheo_sweep_tb.sv),
+  // built with five lanes, instead of rheo_core.
+  bool sweep = false;
+  int lanes = 1;                   // rheo_core: 1, 2 or 4 (the verilated variants)
   hls::EdgeElement element = hls::kThreeElement;  // with the arm: built for 1 lane only
   std::string trace_fst;           // empty: no waveform
   double input_idle_prob = 0.0;    // probability of holding s_axis_tvalid low in a cycle
@@ -50,6 +53,7 @@ class VerilatorTransport : public Transport {
   class Impl;
 
  private:
+  bool sweep_ = false;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -82,12 +82,12 @@ std::vector<std::string> in_process_fixed_point() {
 }
 
 TEST(Backend, TheRegistryNamesEveryBackendAndRefusesOthersWithTheList) {
-  EXPECT_EQ(backend_names(), "ref, float, bittrue, rtl, remote:PATH or fixed:FORMAT");
+  EXPECT_EQ(backend_names(), "ref, float, bittrue, rtl, remote:PATH, sweep, sweep-bittrue or fixed:FORMAT");
   try {
     make_backend("fpga");
     FAIL() << "an unknown backend was accepted";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("expected ref, float, bittrue, rtl, remote:PATH or fixed:FORMAT"),
+    EXPECT_NE(std::string(e.what()).find("expected ref, float, bittrue, rtl, remote:PATH, sweep, sweep-bittrue or fixed:FORMAT"),
               std::string::npos)
         << e.what();
   }

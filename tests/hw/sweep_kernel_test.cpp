@@ -12,7 +12,10 @@
 #include <random>
 
 #include "hls/sweep_kernel.hpp"
+#include "host/driver/bittrue_transport.hpp"
 #include "host/driver/core_image.hpp"
+#include "host/driver/device.hpp"
+#include "host/driver/sweep_bittrue_transport.hpp"
 #include "host/driver/sweep_image.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
@@ -180,6 +183,30 @@ TEST(SweepKernel, ModelsTheCoreCannotTakeAreRefusedWithTheReason) {
   Model twice = base;
   twice.edges.push_back(twice.edges.front());
   expect_refused(twice, s.options.dt, 1, "one edge per pair");
+}
+
+// The image's frames through the sweep core's command interpreter (the RTL controller's
+// rules) give the words the kernel gives from the image directly, and rheo_core's.
+TEST(SweepKernel, FramesThroughTheTransportEqualRheoCoresWords) {
+  const Scenario s = load_scenario("block5");
+  const Model m = orient_edges_low_to_high(s.build_model());
+  const State st = initial_state(m);
+  const SweepImage img = make_sweep_image(m, st, s.options.dt);
+  Device sweep(std::make_unique<SweepBitTrueTransport>(5));
+  sweep.load_frames(sweep_frames(img), 5, true);
+  Device core(std::make_unique<BitTrueTransport>(1));
+  const CoreImage core_img = make_core_image(m, st, s.options.dt, 1);
+  core.load(core_img);
+  std::vector<std::int32_t> plate;
+  for (long n = 1; n <= 300; ++n) plate.push_back(std::int32_t(to_x_word(s.plate_z(m, n), img.base, "plate")));
+  EXPECT_EQ(sweep.run(plate), core.run(plate));
+  EXPECT_EQ(sweep.read_particle_state(0, m.num_particles()), core.read_particle_state(0, m.num_particles()));
+  const CoreStatus status = sweep.read_status(false);
+  EXPECT_TRUE(status.sweep);
+  EXPECT_EQ(status.lanes, 5u);
+  EXPECT_EQ(long(status.cycles), 300 * img.cycles_per_step);
+  // A particle beyond every slab, and a Voigt length without its tag, are bad commands.
+  EXPECT_THROW(sweep.load_frames({frame::header(frame::kOpWrite, frame::kRegionEdgeLength, 1), 0u, 5u}, 5, true), Error);
 }
 
 TEST(SweepKernel, SlabsThinnerThanTheReachTakeFewerLanes) {

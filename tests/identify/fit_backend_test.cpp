@@ -96,7 +96,7 @@ TEST(FitBackend, AColumnFitIsRefusedAfterItsOutputsAndAWrongNameBeforeAnyWork) {
   std::filesystem::remove_all(bad);
   r = run_rheo("fit " + clay + " --backend fpga -q --out " + bad.string());
   EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("expected ref, float, bittrue, rtl, remote:PATH or fixed:FORMAT"), std::string::npos)
+  EXPECT_NE(r.output.find("expected ref, float, bittrue, rtl, remote:PATH, sweep, sweep-bittrue or fixed:FORMAT"), std::string::npos)
       << r.output;
   EXPECT_FALSE(std::filesystem::exists(bad)) << "nothing is written for a misspelt backend";
 }

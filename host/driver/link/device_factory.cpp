@@ -2,6 +2,7 @@
 
 #include "host/driver/bittrue_transport.hpp"
 #include "host/driver/link/remote_transport.hpp"
+#include "host/driver/sweep_bittrue_transport.hpp"
 #include "sim/error.hpp"
 #ifdef RHEO_HAVE_RTL
 #include "host/driver/verilator_transport.hpp"
@@ -52,6 +53,35 @@ OpenedDevice make_device(const std::string& backend, const DeviceOptions& option
     throw Error("--backend '" + backend +
                 "': expected bittrue, rtl or remote:PATH (PATH = socket of rheo "
                 "cosim-server)");
+  }
+  out.name = out.device->transport().name();
+  return out;
+}
+
+OpenedDevice make_sweep_device(const std::string& backend, const DeviceOptions& options) {
+  OpenedDevice out;
+  out.lanes = kSweepCoreLanes;
+  if (backend == "sweep-bittrue") {
+    out.device = std::make_unique<driver::Device>(
+        std::make_unique<driver::SweepBitTrueTransport>(kSweepCoreLanes));
+  } else if (backend == "sweep") {
+#ifdef RHEO_HAVE_RTL
+    driver::VerilatorOptions vo;
+    vo.sweep = true;
+    vo.lanes = kSweepCoreLanes;
+    vo.trace_fst = options.trace_fst;
+    vo.input_idle_prob = options.input_idle_prob;
+    vo.output_stall_prob = options.output_stall_prob;
+    vo.seed = options.seed;
+    out.device = std::make_unique<driver::Device>(std::make_unique<driver::VerilatorTransport>(vo));
+#else
+    (void)options;
+    throw Error(
+        "--backend sweep: this build has no Verilator model (configured with "
+        "RHEO_WITH_RTL=OFF); use sweep-bittrue");
+#endif
+  } else {
+    throw Error("sweep core backend '" + backend + "': expected sweep or sweep-bittrue");
   }
   out.name = out.device->transport().name();
   return out;

@@ -36,4 +36,10 @@ struct OpenedDevice {
 OpenedDevice make_device(const std::string& backend, const DeviceOptions& options = {});
 bool is_device_backend(const std::string& backend);
 
+// The sweep core (rtl/rheo_sweep_core.sv, five lanes): "sweep" the verilated RTL with its
+// SRAM models (builds with RHEO_WITH_RTL), "sweep-bittrue" its bit-true model. Only the
+// rtl-only options of DeviceOptions apply (trace, idle and stall probabilities, seed).
+OpenedDevice make_sweep_device(const std::string& backend, const DeviceOptions& options = {});
+inline constexpr int kSweepCoreLanes = 5;
+
 }  // namespace rheo::link

@@ -1,0 +1,577 @@
+// Command controller of the sweep core (rtl/rheo_sweep_core.sv): decodes the command
+// stream (hls/frame_format.hpp), owns the control registers (lane registers, globals,
+// status, the output word) and sequences a step. The same two-process form as
+// rheo_core_ctrl: the always_comb block computes every register's next value (*_d), one
+// always_ff registers them (*_q).
+//
+// Addressing: a particle's global index (regions ParticleState and SweepParticle) is found
+// in the lane whose slab holds it (a compare against every lane's first particle when a
+// command starts, then local + 1 and the next lane at a slab's end); a sweep slot index
+// (regions SweepEdge and EdgeLength) is lane << SweepSlotLaneShift | n. An index outside
+// every slab raises the bad-command flag.
+// A write of a particle's state goes to its slab and, when the lane above keeps a ghost
+// copy of it, to that copy too (the six words are gathered first: the memories take an
+// entry in one write).
+//
+// A step: the plate word is taken in clock 0 (go); the lanes sweep; when every lane has
+// written its last particle (done) the plate force is complete one clock later and is
+// sent. The compute clocks of a step (status word 2) count from the plate word's clock to
+// the clock before the force word is offered: max over lanes of (start delay + slots) +
+// SweepDrainCycles (hls::sweep_cycles).
+module rheo_sweep_ctrl #(
+  parameter int Lanes = 5,
+  parameter int SlabDepth = 1024,
+  parameter int GhostDepth = 256,
+  parameter int W = 32,
+  parameter int DelayW = 24,
+  localparam int SAW = $clog2(SlabDepth),
+  localparam int GAW = $clog2(GhostDepth),
+  localparam int LW = (Lanes > 1) ? $clog2(Lanes) : 1,
+  localparam int IdxCountW = rheo_consts_pkg::IdxCountW,
+  localparam int RegionW = rheo_consts_pkg::HeaderRegionBits,
+  localparam int FieldW = rheo_consts_pkg::EntryFieldW,
+  localparam int PlateAccW = rheo_consts_pkg::PlateAccW,
+  localparam int NW = rheo_consts_pkg::ZbtAddrBits,
+  localparam int DW = rheo_consts_pkg::ZbtWordBits
+) (
+  input  logic         clk_i,
+  input  logic         rst_ni,
+  input  logic [W-1:0] s_axis_tdata,
+  input  logic         s_axis_tvalid,
+  output logic         s_axis_tready,
+  input  logic         s_axis_tlast,
+  output logic [W-1:0] m_axis_tdata,
+  output logic         m_axis_tvalid,
+  input  logic         m_axis_tready,
+  output logic         m_axis_tlast,
+  output logic         busy_o,
+  // Host access: the entry's region, index, lane and local address, its words.
+  output logic                   host_we_o,      // a word of a table or global entry
+  output logic [RegionW-1:0]     region_o,
+  output logic [FieldW-1:0]      field_o,
+  output logic [IdxCountW-1:0]   index_o,
+  output logic [W-1:0]           wdata_o,
+  output logic [LW-1:0]          lane_o,         // the entry's lane
+  output logic [SAW-1:0]         local_o,        // its local address in the slab
+  output logic                   xp_we_o,        // write the gathered state entry
+  output logic                   stat_we_o,      // write a static word (wdata_o)
+  output logic [6*W-1:0]         xp_wdata_o,
+  output logic                   ghost_we_o,     // and the lane above's ghost copy
+  output logic [GAW-1:0]         ghost_addr_o,
+  output logic                   zbt_valid_o,    // an SRAM command of the host
+  output logic                   zbt_we_o,
+  output logic [NW-1:0]          zbt_addr_o,
+  output logic [DW-1:0]          zbt_wdata_o,
+  input  logic [W-1:0]           read_word_i,    // the entry's word (read-back mux)
+  // Step.
+  output logic                   idle_o,
+  output logic                   go_o,
+  output logic                   cur_dev_o,
+  input  logic [Lanes-1:0]       done_i,
+  output logic [Lanes*(SAW+1)-1:0] count_o,
+  output logic [Lanes*(GAW+1)-1:0] ghost_o,
+  output logic [Lanes*DelayW-1:0]  delay_o,
+  output logic [3*W-1:0]         gravity_o,
+  output logic                   floor_en_o,
+  output logic                   plate_en_o,
+  output logic [W-1:0]           plate_z_o,
+  output logic                   hold_en_o,
+  output logic [W-1:0]           plate_prev_o,
+  input  logic [31:0]            lane_flags_i,
+  input  logic [PlateAccW-1:0]   plate_acc_i
+);
+  localparam int WideW = rheo_consts_pkg::WideW;
+  localparam int OpW = rheo_consts_pkg::HeaderOpcodeBits;
+  localparam int ReadWait = 1 + rheo_consts_pkg::ZbtLatency + 1;  // an SRAM word's clocks
+  localparam int WaitW = $clog2(ReadWait + 1);
+
+  typedef enum logic [3:0] {
+    StIdle, StWStart, StWLocate, StWData, StRStart, StRLocate, StRFetch, StRLoad, StRSend,
+    StStatFetch, StStatSend, StRunPlate, StRun, StDrain, StForceOut
+  } state_e;
+
+  state_e state_q, state_d;
+  logic reading_q, reading_d;
+  logic [RegionW-1:0] region_q, region_d;
+  logic [FieldW-1:0] last_field_q, last_field_d, field_q, field_d;
+  logic [IdxCountW-1:0] count_q, count_d, index_q, index_d;
+  logic [LW-1:0] lane_q, lane_d;
+  logic [SAW:0] local_q, local_d;
+  logic in_slab_q, in_slab_d;       // the particle entry lies in a slab
+  logic [WaitW-1:0] wait_q, wait_d;
+  logic clear_q, clear_d;
+  logic [W-1:0] out_data_q, out_data_d;
+  logic out_valid_q, out_valid_d, out_last_q, out_last_d;
+  logic [5*W-1:0] xp_buf_q, xp_buf_d;  // the first five words of a state entry
+  logic [IdxCountW-1:0] first_q [Lanes], first_d [Lanes];
+  logic [SAW:0] lcount_q [Lanes], lcount_d [Lanes];
+  logic [GAW:0] lghost_q [Lanes], lghost_d [Lanes];
+  logic [DelayW-1:0] ldelay_q [Lanes], ldelay_d [Lanes];
+  logic [3*W-1:0] gravity_q, gravity_d;
+  logic floor_en_q, floor_en_d, plate_en_q, plate_en_d;
+  logic [W-1:0] plate_z_q, plate_z_d;
+  logic plate_hold_en_q, plate_hold_en_d, plate_prev_valid_q, plate_prev_valid_d;
+  logic [W-1:0] plate_prev_q, plate_prev_d;
+  logic cur_dev_q, cur_dev_d;
+  logic [31:0] status_q, status_d, step_count_q, step_count_d, cycle_count_q, cycle_count_d;
+
+  logic [OpW-1:0] hdr_opcode;
+  logic [RegionW-1:0] hdr_region;
+  logic [IdxCountW-1:0] hdr_count, word_index;
+  assign hdr_opcode = s_axis_tdata[rheo_consts_pkg::HeaderOpcodeShift +: OpW];
+  assign hdr_region = s_axis_tdata[rheo_consts_pkg::HeaderRegionShift +: RegionW];
+  assign hdr_count = s_axis_tdata[rheo_consts_pkg::HeaderCountShift +: IdxCountW];
+  assign word_index = s_axis_tdata[IdxCountW-1:0];
+
+  logic in_fire, out_fire;
+  assign s_axis_tready = (state_q == StIdle) || (state_q == StWStart) || (state_q == StWData) ||
+                         (state_q == StRStart) || (state_q == StRunPlate);
+  assign in_fire = s_axis_tvalid && s_axis_tready;
+  assign out_fire = out_valid_q && m_axis_tready;
+  assign m_axis_tdata = out_data_q;
+  assign m_axis_tvalid = out_valid_q;
+  assign m_axis_tlast = out_last_q;
+  assign busy_o = (state_q == StRun) || (state_q == StDrain);
+  assign idle_o = !busy_o;
+
+  // Which regions a command may name, and how their entries are addressed.
+  function automatic logic region_ok(input logic [RegionW-1:0] r);
+    region_ok = r == RegionW'(rheo_consts_pkg::RegionGlobals) ||
+                r == RegionW'(rheo_consts_pkg::RegionParticleState) ||
+                r == RegionW'(rheo_consts_pkg::RegionMaterial) ||
+                r == RegionW'(rheo_consts_pkg::RegionEdgeLength) ||
+                (r >= RegionW'(rheo_consts_pkg::RegionSweepParticle) &&
+                 r <= RegionW'(rheo_consts_pkg::RegionSweepMass));
+  endfunction
+  logic particle_region, slot_region;
+  assign particle_region = region_q == RegionW'(rheo_consts_pkg::RegionParticleState) ||
+                           region_q == RegionW'(rheo_consts_pkg::RegionSweepParticle);
+  assign slot_region = region_q == RegionW'(rheo_consts_pkg::RegionSweepEdge) ||
+                       region_q == RegionW'(rheo_consts_pkg::RegionEdgeLength);
+  logic entry_done;
+  assign entry_done = field_q == last_field_q;
+
+  // The lane and local address of a particle index: the last lane whose slab starts at or
+  // below it (empty lanes lie above every particle: their first is the particle count).
+  logic [LW-1:0] find_lane;
+  logic [IdxCountW-1:0] find_local;
+  logic find_ok;
+  always_comb begin
+    find_lane = '0;
+    for (int j = 1; j < Lanes; j++)
+      if (index_q >= first_q[j] && lcount_q[j] != '0) find_lane = LW'(j);
+    find_local = index_q - first_q[find_lane];
+    find_ok = index_q >= first_q[find_lane] && find_local < IdxCountW'(lcount_q[find_lane]);
+  end
+  // The next particle entry: local + 1, or the next lane's first.
+  logic [LW-1:0] next_lane;
+  logic [SAW:0] next_local;
+  logic next_in_slab;
+  always_comb begin
+    next_lane = lane_q;
+    next_local = local_q + 1'b1;
+    next_in_slab = in_slab_q;
+    if (particle_region) begin
+      if (next_local >= lcount_q[lane_q]) begin
+        next_local = '0;
+        if (32'(lane_q) + 1 < Lanes && lcount_q[LW'(32'(lane_q) + 1)] != '0)
+          next_lane = lane_q + 1'b1;
+        else next_in_slab = 1'b0;
+      end
+    end
+  end
+  // The lane above keeps a ghost copy of this slab's last ghost particles.
+  logic has_above;
+  logic [SAW:0] ghost_from;
+  always_comb begin
+    has_above = 32'(lane_q) + 1 < Lanes;
+    ghost_from = lcount_q[lane_q];
+    if (has_above) ghost_from = lcount_q[lane_q] - (SAW+1)'(lghost_q[LW'(32'(lane_q) + 1)]);
+  end
+
+  assign host_we_o = (state_q == StWData) && in_fire && !particle_region && !slot_region &&
+                     region_q != RegionW'(rheo_consts_pkg::RegionSweepLane);
+  assign region_o = region_q;
+  assign field_o = field_q;
+  assign index_o = index_q;
+  assign wdata_o = s_axis_tdata;
+  assign lane_o = lane_q;
+  assign local_o = SAW'(local_q);
+  logic data_word;
+  assign data_word = (state_q == StWData) && in_fire && entry_done;
+  assign xp_we_o = data_word && in_slab_q &&
+                   region_q == RegionW'(rheo_consts_pkg::RegionParticleState);
+  assign xp_wdata_o = {s_axis_tdata, xp_buf_q};
+  assign ghost_we_o = xp_we_o && has_above && lghost_q[LW'(32'(lane_q) + 1)] != '0 &&
+                      local_q >= ghost_from;
+  assign ghost_addr_o = GAW'(local_q - ghost_from);
+  assign stat_we_o = data_word && in_slab_q &&
+                     region_q == RegionW'(rheo_consts_pkg::RegionSweepParticle);
+  // SRAM: a SweepEdge entry {d, tag} is one word; reads of both slot regions.
+  assign zbt_valid_o = (data_word && region_q == RegionW'(rheo_consts_pkg::RegionSweepEdge)) ||
+                       (state_q == StRFetch && slot_region && wait_q == WaitW'(ReadWait));
+  assign zbt_we_o = state_q == StWData;
+  assign zbt_addr_o = index_q[NW-1:0];
+  assign zbt_wdata_o = {s_axis_tdata[rheo_consts_pkg::SweepClassBits:0], xp_buf_q[W-1:0]};
+  assign go_o = (state_q == StRunPlate) && in_fire;
+  assign cur_dev_o = cur_dev_q;
+  for (genvar j = 0; j < Lanes; j++) begin : g_lane_regs
+    assign count_o[j*(SAW+1) +: SAW+1] = lcount_q[j];
+    assign ghost_o[j*(GAW+1) +: GAW+1] = lghost_q[j];
+    assign delay_o[j*DelayW +: DelayW] = ldelay_q[j];
+  end
+  assign gravity_o = gravity_q;
+  assign floor_en_o = floor_en_q;
+  assign plate_en_o = plate_en_q;
+  assign plate_z_o = plate_z_q;
+  assign hold_en_o = plate_hold_en_q & plate_prev_valid_q;
+  assign plate_prev_o = plate_prev_q;
+
+`ifndef SYNTHESIS
+  rheo_stream_checker #(
+    .W(W), .StateW($bits(state_q)), .NumStates(32'(StForceOut) + 1), .Lanes(Lanes), .BW(LW),
+    .DrainW(WaitW), .MaxDrain(ReadWait), .DivStepW(1), .DivSteps(0)
+  ) u_checker (
+    .clk_i(clk_i), .rst_ni(rst_ni),
+    .s_axis_tdata(s_axis_tdata), .s_axis_tvalid(s_axis_tvalid), .s_axis_tready(s_axis_tready),
+    .s_axis_tlast(s_axis_tlast),
+    .m_axis_tdata(m_axis_tdata), .m_axis_tvalid(m_axis_tvalid), .m_axis_tready(m_axis_tready),
+    .m_axis_tlast(m_axis_tlast),
+    .busy_i(busy_o), .state_i(state_q),
+    .holds_word_i(state_q == StRSend || state_q == StStatSend || state_q == StForceOut),
+    .bank_i(lane_q), .div_rem_i('0), .drain_i(wait_q), .div_step_i(1'b0));
+`endif
+
+  logic [W-1:0] status_word;
+  always_comb begin
+    unique case (field_q)
+      FieldW'(0): status_word = status_q;
+      FieldW'(1): status_word = step_count_q;
+      FieldW'(2): status_word = cycle_count_q;
+      default: status_word = 32'(Lanes) | 32'(rheo_consts_pkg::StatusLanesSweep);
+    endcase
+  end
+  // A SweepLane entry's lane (its index; beyond the lanes: a bad command, lane 0 read).
+  logic [LW-1:0] entry_lane;
+  assign entry_lane = index_q < IdxCountW'(Lanes) ? LW'(index_q) : '0;
+  // Words the controller itself holds: the lane registers.
+  logic [W-1:0] lane_word;
+  always_comb begin
+    unique case (field_q)
+      FieldW'(rheo_consts_pkg::SweepLaneFirst): lane_word = W'(first_q[entry_lane]);
+      FieldW'(rheo_consts_pkg::SweepLaneCount): lane_word = W'(lcount_q[entry_lane]);
+      FieldW'(rheo_consts_pkg::SweepLaneGhost): lane_word = W'(lghost_q[entry_lane]);
+      default: lane_word = W'(ldelay_q[entry_lane]);
+    endcase
+  end
+
+  always_comb begin
+    state_d = state_q;
+    reading_d = reading_q;
+    region_d = region_q;
+    last_field_d = last_field_q;
+    field_d = field_q;
+    count_d = count_q;
+    index_d = index_q;
+    lane_d = lane_q;
+    local_d = local_q;
+    in_slab_d = in_slab_q;
+    wait_d = wait_q;
+    clear_d = clear_q;
+    out_data_d = out_data_q;
+    out_valid_d = out_valid_q;
+    out_last_d = out_last_q;
+    xp_buf_d = xp_buf_q;
+    for (int j = 0; j < Lanes; j++) begin
+      first_d[j] = first_q[j];
+      lcount_d[j] = lcount_q[j];
+      lghost_d[j] = lghost_q[j];
+      ldelay_d[j] = ldelay_q[j];
+    end
+    gravity_d = gravity_q;
+    floor_en_d = floor_en_q;
+    plate_en_d = plate_en_q;
+    plate_z_d = plate_z_q;
+    plate_hold_en_d = plate_hold_en_q;
+    plate_prev_valid_d = plate_prev_valid_q;
+    plate_prev_d = plate_prev_q;
+    cur_dev_d = cur_dev_q;
+    step_count_d = step_count_q;
+    status_d = status_q | lane_flags_i;
+    cycle_count_d = (busy_o || go_o) ? cycle_count_q + 32'd1 : cycle_count_q;
+
+    unique case (state_q)
+      StIdle: begin
+        if (in_fire) begin
+          region_d = hdr_region;
+          last_field_d = rheo_consts_pkg::words_per_entry(hdr_region) - FieldW'(1);
+          count_d = hdr_count;
+          field_d = '0;
+          unique case (hdr_opcode)
+            OpW'(rheo_consts_pkg::OpWrite), OpW'(rheo_consts_pkg::OpRead): begin
+              reading_d = hdr_opcode == OpW'(rheo_consts_pkg::OpRead);
+              // A Voigt length is written with its tag (region SweepEdge): EdgeLength is
+              // read-only here.
+              if (!region_ok(hdr_region) ||
+                  (hdr_opcode == OpW'(rheo_consts_pkg::OpWrite) &&
+                   hdr_region == RegionW'(rheo_consts_pkg::RegionEdgeLength)))
+                status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+              else if (hdr_opcode == OpW'(rheo_consts_pkg::OpRead)) state_d = StRStart;
+              else state_d = StWStart;
+            end
+            OpW'(rheo_consts_pkg::OpRun): begin
+              if (hdr_count != 0) state_d = StRunPlate;
+            end
+            OpW'(rheo_consts_pkg::OpStatus): begin
+              clear_d = hdr_count[rheo_consts_pkg::StatusClearBit];
+              state_d = StStatFetch;
+            end
+            default: status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+          endcase
+        end
+      end
+      StWStart, StRStart: begin
+        if (in_fire) begin
+          index_d = word_index;
+          state_d = (count_q == 0) ? StIdle : (reading_q ? StRLocate : StWLocate);
+        end
+      end
+      StWLocate, StRLocate: begin
+        // Particle entries: their lane and local address; slot entries: lane and n.
+        if (particle_region) begin
+          lane_d = find_lane;
+          local_d = (SAW+1)'(find_local);
+          in_slab_d = find_ok;
+        end else if (slot_region) begin
+          in_slab_d = (index_q >> rheo_consts_pkg::SweepSlotLaneShift) < IdxCountW'(Lanes);
+          lane_d = in_slab_d ? LW'(index_q >> rheo_consts_pkg::SweepSlotLaneShift) : '0;
+        end else begin
+          in_slab_d = 1'b1;
+        end
+        wait_d = WaitW'(ReadWait);
+        state_d = reading_q ? StRFetch : StWData;
+      end
+      StWData: begin
+        if (in_fire) begin
+          if (region_q == RegionW'(rheo_consts_pkg::RegionGlobals)) begin
+            unique case (index_q)
+              // The particle count and rheo_core's edge rows: the lanes' registers hold
+              // what the sweep needs.
+              IdxCountW'(rheo_consts_pkg::GlobalNumParticles),
+              IdxCountW'(rheo_consts_pkg::GlobalEdgeRows): ;
+              IdxCountW'(rheo_consts_pkg::GlobalGravityX): gravity_d[0*W +: W] = s_axis_tdata;
+              IdxCountW'(rheo_consts_pkg::GlobalGravityY): gravity_d[1*W +: W] = s_axis_tdata;
+              IdxCountW'(rheo_consts_pkg::GlobalGravityZ): gravity_d[2*W +: W] = s_axis_tdata;
+              IdxCountW'(rheo_consts_pkg::GlobalControl): begin
+                floor_en_d = s_axis_tdata[rheo_consts_pkg::ControlFloorBit];
+                plate_en_d = s_axis_tdata[rheo_consts_pkg::ControlPlateBit];
+                plate_hold_en_d = s_axis_tdata[rheo_consts_pkg::ControlPlateHoldBit];
+                plate_prev_valid_d = 1'b0;
+              end
+              default: status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+            endcase
+          end
+          if (region_q == RegionW'(rheo_consts_pkg::RegionSweepLane)) begin
+            if (index_q >= IdxCountW'(Lanes)) begin
+              status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+            end else begin
+              unique case (field_q)
+                FieldW'(rheo_consts_pkg::SweepLaneFirst): first_d[entry_lane] = word_index;
+                FieldW'(rheo_consts_pkg::SweepLaneCount): begin
+                  if (word_index > IdxCountW'(SlabDepth))
+                    status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+                  else lcount_d[entry_lane] = (SAW+1)'(word_index);
+                end
+                FieldW'(rheo_consts_pkg::SweepLaneGhost): begin
+                  if (word_index > IdxCountW'(GhostDepth) || (entry_lane == '0 && word_index != '0))
+                    status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+                  else lghost_d[entry_lane] = (GAW+1)'(word_index);
+                end
+                default: ldelay_d[entry_lane] = s_axis_tdata[DelayW-1:0];
+              endcase
+            end
+          end
+          if ((particle_region || slot_region) && entry_done && !in_slab_q)
+            status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
+          if (!entry_done) xp_buf_d[field_q*W +: W] = s_axis_tdata;
+          if (entry_done) begin
+            field_d = '0;
+            index_d = index_q + IdxCountW'(1);
+            if (particle_region) begin
+              lane_d = next_lane;
+              local_d = next_local;
+              in_slab_d = next_in_slab;
+            end
+            count_d = count_q - IdxCountW'(1);
+            if (count_q == IdxCountW'(1)) state_d = StIdle;
+          end else begin
+            field_d = field_q + FieldW'(1);
+          end
+        end
+      end
+      StRFetch: begin
+        // Memory words arrive the next clock, SRAM words ReadWait clocks after the command
+        // (issued in the first fetch clock): StRLoad takes them in that clock.
+        if (!slot_region || wait_q == WaitW'(1)) state_d = StRLoad;
+        else wait_d = wait_q - 1'b1;
+      end
+      StRLoad: begin
+        out_data_d = (region_q == RegionW'(rheo_consts_pkg::RegionSweepLane)) ? lane_word
+                                                                               : read_word_i;
+        if (((particle_region || slot_region) && !in_slab_q) ||
+            (region_q == RegionW'(rheo_consts_pkg::RegionSweepLane) &&
+             index_q >= IdxCountW'(Lanes))) begin
+          out_data_d = '0;
+          status_d = status_q | lane_flags_i | 32'(rheo_consts_pkg::StatusBadCommand);
+        end
+        out_valid_d = 1'b1;
+        out_last_d = (count_q == IdxCountW'(1)) && entry_done;
+        state_d = StRSend;
+      end
+      StRSend: begin
+        if (out_fire) begin
+          out_valid_d = 1'b0;
+          out_last_d = 1'b0;
+          wait_d = WaitW'(ReadWait);
+          if (entry_done) begin
+            field_d = '0;
+            index_d = index_q + IdxCountW'(1);
+            if (particle_region) begin
+              lane_d = next_lane;
+              local_d = next_local;
+              in_slab_d = next_in_slab;
+            end
+            count_d = count_q - IdxCountW'(1);
+            state_d = (count_q == IdxCountW'(1)) ? StIdle : StRFetch;
+          end else begin
+            field_d = field_q + FieldW'(1);
+            state_d = StRFetch;
+          end
+        end
+      end
+      StStatFetch: begin
+        out_data_d = status_word;
+        out_valid_d = 1'b1;
+        out_last_d = (field_q == FieldW'(rheo_consts_pkg::StatusWords - 1));
+        state_d = StStatSend;
+      end
+      StStatSend: begin
+        if (out_fire) begin
+          out_valid_d = 1'b0;
+          out_last_d = 1'b0;
+          if (field_q == FieldW'(rheo_consts_pkg::StatusWords - 1)) begin
+            field_d = '0;
+            if (clear_q) status_d = lane_flags_i;
+            state_d = StIdle;
+          end else begin
+            field_d = field_q + FieldW'(1);
+            state_d = StStatFetch;
+          end
+        end
+      end
+      StRunPlate: begin
+        if (in_fire) begin
+          plate_z_d = s_axis_tdata;
+          plate_prev_d = plate_z_q;
+          plate_prev_valid_d = 1'b1;
+          state_d = StRun;
+        end
+      end
+      StRun: begin
+        if (&done_i) state_d = StDrain;
+      end
+      StDrain: begin
+        // The last plate force was added to the accumulator in this clock's edge.
+        out_data_d = rheo_consts_pkg::sat_word(WideW'(signed'(plate_acc_i)));
+        if (rheo_consts_pkg::clips(WideW'(signed'(plate_acc_i)), W))
+          status_d = status_q | lane_flags_i | 32'(rheo_consts_pkg::StatusPlateSat);
+        out_valid_d = 1'b1;
+        out_last_d = (count_q == IdxCountW'(1));
+        step_count_d = step_count_q + 32'd1;
+        cur_dev_d = !cur_dev_q;
+        state_d = StForceOut;
+      end
+      StForceOut: begin
+        if (out_fire) begin
+          out_valid_d = 1'b0;
+          out_last_d = 1'b0;
+          count_d = count_q - IdxCountW'(1);
+          state_d = (count_q == IdxCountW'(1)) ? StIdle : StRunPlate;
+        end
+      end
+      default: state_d = StIdle;
+    endcase
+  end
+
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      state_q <= StIdle;
+      reading_q <= 1'b0;
+      region_q <= '0;
+      last_field_q <= '0;
+      field_q <= '0;
+      count_q <= '0;
+      index_q <= '0;
+      lane_q <= '0;
+      local_q <= '0;
+      in_slab_q <= 1'b0;
+      wait_q <= '0;
+      clear_q <= 1'b0;
+      out_data_q <= '0;
+      out_valid_q <= 1'b0;
+      out_last_q <= 1'b0;
+      xp_buf_q <= '0;
+      for (int j = 0; j < Lanes; j++) begin
+        first_q[j] <= '0;
+        lcount_q[j] <= '0;
+        lghost_q[j] <= '0;
+        ldelay_q[j] <= '0;
+      end
+      gravity_q <= '0;
+      floor_en_q <= 1'b0;
+      plate_en_q <= 1'b0;
+      plate_z_q <= '0;
+      plate_hold_en_q <= 1'b0;
+      plate_prev_valid_q <= 1'b0;
+      plate_prev_q <= '0;
+      cur_dev_q <= 1'b0;
+      status_q <= '0;
+      step_count_q <= '0;
+      cycle_count_q <= '0;
+    end else begin
+      state_q <= state_d;
+      reading_q <= reading_d;
+      region_q <= region_d;
+      last_field_q <= last_field_d;
+      field_q <= field_d;
+      count_q <= count_d;
+      index_q <= index_d;
+      lane_q <= lane_d;
+      local_q <= local_d;
+      in_slab_q <= in_slab_d;
+      wait_q <= wait_d;
+      clear_q <= clear_d;
+      out_data_q <= out_data_d;
+      out_valid_q <= out_valid_d;
+      out_last_q <= out_last_d;
+      xp_buf_q <= xp_buf_d;
+      for (int j = 0; j < Lanes; j++) begin
+        first_q[j] <= first_d[j];
+        lcount_q[j] <= lcount_d[j];
+        lghost_q[j] <= lghost_d[j];
+        ldelay_q[j] <= ldelay_d[j];
+      end
+      gravity_q <= gravity_d;
+      floor_en_q <= floor_en_d;
+      plate_en_q <= plate_en_d;
+      plate_z_q <= plate_z_d;
+      plate_hold_en_q <= plate_hold_en_d;
+      plate_prev_valid_q <= plate_prev_valid_d;
+      plate_prev_q <= plate_prev_d;
+      cur_dev_q <= cur_dev_d;
+      status_q <= status_d;
+      step_count_q <= step_count_d;
+      cycle_count_q <= cycle_count_d;
+    end
+  end
+endmodule

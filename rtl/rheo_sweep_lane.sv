@@ -1,0 +1,560 @@
+// One lane of the sweep core (rtl/rheo_sweep_core.sv, docs/sweep_core.md): its slab of
+// particles, its stream of edges (rheo_sweep_enum), a TEM, the force sums and an MPM that
+// runs beside the sweep. Clock by clock, for a slot in the slot registers in clock E
+// (edges and padding alike; every slot takes the same path):
+//   E      the edge's SRAM word is read (device cur_dev_i; rheo_zbt_port: word at E+4)
+//   E+1    the end's local index e = s + o_k (own) or o_k - (ghost - a) (cross)
+//   E+3    memory addresses: the end particle (x/p port A); a particle's first slot also
+//          reads the start (own: x/p port B; cross: the ghost copy)
+//   E+4    x and p of both ends and the SRAM word: its class goes to the class table; an
+//          own particle's x, p and static fields enter the MPM queue
+//   E+5    operands registered; L and the material index from the class table
+//   E+6    the material's coefficients: the TEM's input
+//   E+46   the TEM's force f and new d (TemLatency later): d goes to the written device;
+//          f is added to the particle's start sum (a register, cleared at its first slot)
+//          and -f to the end's sum (rheo_sweep_end_sums, started afresh by a first edge)
+//   E+47   a particle's last slot: its start sum is complete. Cross: written to the ghost
+//          sums (the lane below adds it). Own: the end sum (window copy B), the lane
+//          above's ghost sum and the queued x, p are read
+//   E+48   the three sums added (exact)
+//   E+49   saturated to a word
+//   E+50   the MPM's input; E+58 its output: x and p go to the slab (x/p port B, the clock
+//          after, or one later when a start read has the port) and, for a particle the
+//          lane above keeps a ghost copy of, to that copy; its plate force to the top
+// A lane's last slot in clock E therefore has its x and p written by clock E+60 and its
+// plate force in the top's accumulator by clock E+60: the drain of hls::kSweepDrainCycles.
+//
+// Ports between lanes: the lane below writes this lane's ghost copy and reads its ghost
+// sums; this lane reads the lane below's static words (its port B) for the ghosts'
+// out-masks. Each lane counts the ghost particles it has read and whose sums it has
+// written; the lane below checks every ghost write and ghost sum read against them and
+// raises the schedule-conflict flag when it would come too early (the host's start delays
+// prevent it).
+module rheo_sweep_lane #(
+  parameter int W = 32,
+  parameter int CoefW = 24,
+  parameter int SlabDepth = 1024,
+  parameter int GhostDepth = 256,
+  parameter int Window = 512,
+  parameter int HasGhost = 1,  // 0 for lane 0 (no lane below)
+  parameter int DelayW = 24,
+  localparam int SAW = $clog2(SlabDepth),
+  localparam int GAW = $clog2(GhostDepth),
+  localparam int Offsets = rheo_consts_pkg::SweepOffsets,
+  localparam int OffW = rheo_consts_pkg::SweepOffsetBits,
+  localparam int StatW = rheo_consts_pkg::SweepStaticBits,
+  localparam int ClsW = rheo_consts_pkg::SweepClassBits,
+  localparam int MassW = rheo_consts_pkg::SweepMassBits,
+  localparam int SumW = rheo_consts_pkg::SweepSumBits,
+  localparam int NW = rheo_consts_pkg::ZbtAddrBits,
+  localparam int DW = rheo_consts_pkg::ZbtWordBits,
+  localparam int NumCoef = rheo_consts_pkg::MaterialCoefs,
+  localparam int MFlagsW = rheo_consts_pkg::MatFlagsW,
+  localparam int XpW = 6 * W
+) (
+  input  logic                    clk_i,
+  input  logic                    rst_ni,
+  input  logic                    go_i,         // a step starts (its plate word is taken)
+  input  logic                    idle_i,       // no step runs: the host owns the memories
+  input  logic                    cur_dev_i,    // the SRAM device read this step
+  output logic                    done_o,       // every own particle of the step written
+  input  logic [SAW:0]            count_i,
+  input  logic [GAW:0]            ghost_i,
+  input  logic [DelayW-1:0]       delay_i,
+  input  logic [SAW:0]            prev_count_i,
+  input  logic [GAW:0]            next_ghost_i,
+  input  logic [Offsets*OffW-1:0] offsets_i,
+  // The lane below's static words (its port B) and this lane's for the lane above.
+  output logic [SAW-1:0]          prev_stat_addr_o,
+  input  logic [StatW-1:0]        prev_stat_i,
+  input  logic [SAW-1:0]          next_stat_addr_i,
+  output logic [StatW-1:0]        next_stat_o,
+  // This lane's ghost copy, written by the lane below's MPM or the host.
+  input  logic                    gx_we_i,
+  input  logic [GAW-1:0]          gx_addr_i,
+  input  logic [XpW-1:0]          gx_wdata_i,
+  // The lane above's ghost copy, written from this lane's MPM.
+  output logic                    gxo_we_o,
+  output logic [GAW-1:0]          gxo_addr_o,
+  output logic [XpW-1:0]          gxo_wdata_o,
+  // This lane's ghost sums, read by the lane below; the lane above's, read here.
+  input  logic [GAW-1:0]          gs_raddr_i,
+  output logic [3*SumW-1:0]       gs_rdata_o,
+  output logic [GAW-1:0]          gsn_raddr_o,
+  input  logic [3*SumW-1:0]       gsn_rdata_i,
+  // Ghost particles read and ghost sums written so far this step (for the lane below),
+  // and the lane above's.
+  output logic [GAW:0]            xread_o,
+  output logic [GAW:0]            xdone_o,
+  input  logic [GAW:0]            next_xread_i,
+  input  logic [GAW:0]            next_xdone_i,
+  // Tables (rheo_sweep_tables, rheo_core_mem_mat): class -> L, material -> coefficients,
+  // mass class -> 1/m, each one registered read.
+  output logic [ClsW-1:0]         cls_o,
+  input  logic [W-1:0]            len_i,
+  input  logic [NumCoef*CoefW-1:0] coef_i,
+  input  logic [MFlagsW-1:0]      mflags_i,
+  output logic [MassW-1:0]        mass_o,
+  input  logic [CoefW-1:0]        minv_i,
+  // MPM globals.
+  input  logic [3*W-1:0]          gravity_i,
+  input  logic [W-1:0]            plate_z_i,
+  input  logic                    plate_en_i,
+  input  logic                    floor_en_i,
+  input  logic                    hold_en_i,
+  input  logic [W-1:0]            plate_prev_i,
+  output logic                    plate_valid_o,
+  output logic [W-1:0]            plate_f_o,
+  output logic [31:0]             flags_o,      // status bits raised this clock
+  // Host access while idle.
+  input  logic [SAW-1:0]          host_addr_i,
+  input  logic                    host_xp_we_i,
+  input  logic [XpW-1:0]          host_xp_wdata_i,
+  output logic [XpW-1:0]          host_xp_rdata_o,
+  input  logic                    host_stat_we_i,
+  input  logic [StatW-1:0]        host_stat_wdata_i,
+  output logic [StatW-1:0]        host_stat_rdata_o,
+  input  logic                    host_zbt_valid_i,
+  input  logic                    host_zbt_we_i,
+  input  logic [NW-1:0]           host_zbt_addr_i,
+  input  logic [DW-1:0]           host_zbt_wdata_i,
+  output logic [DW-1:0]           host_zbt_rdata_o,
+  // The two SRAM devices: {device 1, device 0}.
+  output logic [2*NW-1:0]         zbt_a_o,
+  output logic [1:0]              zbt_ce_n_o,
+  output logic [1:0]              zbt_we_n_o,
+  output logic [2*DW-1:0]         zbt_d_o,
+  output logic [1:0]              zbt_d_oe_o,
+  input  logic [2*DW-1:0]         zbt_q_i
+);
+  localparam int KW = $clog2(Offsets);
+  localparam int WAW = $clog2(Window);
+  localparam int TemLat = rheo_consts_pkg::TemLatency;
+  localparam int AccW = SumW + 2;  // start + end + ghost sum
+  localparam int QDepth = 32;      // own particles between their first slot and their MPM
+  localparam int QAW = $clog2(QDepth);
+
+  if (HasGhost == 0) begin : g_no_ghost_use
+    logic unused;
+    assign unused = ^{gx_we_i, gx_addr_i, gx_wdata_i, gs_raddr_i, prev_stat_i, prev_count_i};
+  end
+
+  // ---------------------------------------------------------------- stream
+  logic s_slot, s_edge, s_first, s_last, s_cross, s_fixed, s_plate, s_has_in, s_has_cross;
+  logic [SAW-1:0] s_idx;
+  logic [KW-1:0] s_k;
+  logic [NW-1:0] s_n;
+  logic [MassW-1:0] s_mass;
+  logic starved;
+  logic [SAW-1:0] own_stat_addr;
+  logic [StatW-1:0] own_stat;
+  rheo_sweep_enum #(.SlabDepth(SlabDepth), .GhostDepth(GhostDepth), .DelayW(DelayW)) u_enum (
+    .clk_i(clk_i), .rst_ni(rst_ni), .go_i(go_i), .count_i(count_i),
+    .ghost_i(HasGhost != 0 ? ghost_i : '0), .prev_count_i(prev_count_i), .delay_i(delay_i),
+    .offsets_i(offsets_i), .own_stat_addr_o(own_stat_addr), .own_stat_i(own_stat),
+    .prev_stat_addr_o(prev_stat_addr_o), .prev_stat_i(prev_stat_i),
+    .slot_o(s_slot), .edge_o(s_edge), .first_o(s_first), .last_o(s_last), .cross_o(s_cross),
+    .idx_o(s_idx), .k_o(s_k), .n_o(s_n), .mass_o(s_mass), .fixed_o(s_fixed), .plate_o(s_plate),
+    .has_in_o(s_has_in), .has_cross_o(s_has_cross), .starved_o(starved));
+
+  // ---------------------------------------------------------------- slot pipeline E+1..E+4
+  // A slot's fields, carried along: {has_cross, has_in, plate, fixed, mass, n, e, idx,
+  // cross, last, first, edge, slot}.
+  localparam int PSlot = 0, PEdge = 1, PFirst = 2, PLast = 3, PCross = 4, PIdx = 5;
+  localparam int PE = PIdx + SAW, PN = PE + SAW, PMass = PN + NW, PFixed = PMass + MassW;
+  localparam int PPlate = PFixed + 1, PHasIn = PPlate + 1, PHasCross = PHasIn + 1;
+  localparam int PW = PHasCross + 1;
+  logic [OffW-1:0] off_k;
+  logic [SAW:0] e_own, e_cross;
+  logic [PW-1:0] p1_q, p2_q, p3_q, p4_q;
+  assign off_k = offsets_i[s_k*OffW +: OffW];
+  assign e_own = {1'b0, s_idx} + (SAW+1)'(off_k);
+  // o_k - (ghost - a): in the slab whenever the enumerator put the edge in the stream.
+  assign e_cross = (SAW+1)'(off_k) + {1'b0, s_idx} - (SAW+1)'(ghost_i);
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      p1_q <= '0;
+      p2_q <= '0;
+      p3_q <= '0;
+      p4_q <= '0;
+    end else begin
+      p1_q[PSlot] <= s_slot;
+      p1_q[PEdge] <= s_edge;
+      p1_q[PFirst] <= s_first;
+      p1_q[PLast] <= s_last;
+      p1_q[PCross] <= s_cross;
+      p1_q[PIdx +: SAW] <= s_idx;
+      p1_q[PE +: SAW] <= SAW'(s_cross ? e_cross : e_own);
+      p1_q[PN +: NW] <= s_n;
+      p1_q[PMass +: MassW] <= s_mass;
+      p1_q[PFixed] <= s_fixed;
+      p1_q[PPlate] <= s_plate;
+      p1_q[PHasIn] <= s_has_in;
+      p1_q[PHasCross] <= s_has_cross;
+      p2_q <= p1_q;
+      p3_q <= p2_q;
+      p4_q <= p3_q;
+    end
+  end
+
+  // ---------------------------------------------------------------- memories
+  // x/p of the slab: port A reads the end particles; port B reads a particle's start (its
+  // first own slot), writes MPM results and serves the host.
+  logic start_rd, ghost_rd;
+  logic [XpW-1:0] xp_a, xp_b;
+  logic xp_b_we;
+  logic [SAW-1:0] xp_b_addr;
+  logic [XpW-1:0] xp_b_wdata;
+  logic wb_q;  // an MPM result waiting for port B
+  logic [SAW-1:0] wb_addr_q;
+  logic [XpW-1:0] wb_data_q;
+  assign start_rd = p3_q[PSlot] && p3_q[PFirst] && !p3_q[PCross];
+  assign ghost_rd = p3_q[PSlot] && p3_q[PFirst] && p3_q[PCross];
+  always_comb begin
+    if (idle_i) begin
+      xp_b_we = host_xp_we_i;
+      xp_b_addr = host_addr_i;
+      xp_b_wdata = host_xp_wdata_i;
+    end else begin
+      xp_b_we = wb_q && !start_rd;
+      xp_b_addr = start_rd ? p3_q[PIdx +: SAW] : wb_addr_q;
+      xp_b_wdata = wb_data_q;
+    end
+  end
+  rheo_ram_tdp #(.Width(XpW), .Depth(SlabDepth)) u_xp (
+    .clk_i(clk_i), .a_addr_i(p3_q[PE +: SAW]), .a_data_o(xp_a),
+    .b_we_i(xp_b_we), .b_addr_i(xp_b_addr), .b_data_i(xp_b_wdata), .b_data_o(xp_b));
+  assign host_xp_rdata_o = xp_b;
+  // Static words: port A feeds this lane's stream, port B the lane above's (its ghosts'
+  // out-masks) and the host.
+  logic [StatW-1:0] stat_b;
+  rheo_ram_tdp #(.Width(StatW), .Depth(SlabDepth)) u_stat (
+    .clk_i(clk_i), .a_addr_i(own_stat_addr), .a_data_o(own_stat),
+    .b_we_i(idle_i && host_stat_we_i), .b_addr_i(idle_i ? host_addr_i : next_stat_addr_i),
+    .b_data_i(host_stat_wdata_i), .b_data_o(stat_b));
+  assign next_stat_o = stat_b;
+  assign host_stat_rdata_o = stat_b;
+  // The ghost copy and the ghost sums (lanes with a lane below).
+  logic [XpW-1:0] ghost_xp;
+  logic gs_we;
+  logic [GAW-1:0] gs_waddr;
+  logic [3*SumW-1:0] gs_wdata;
+  if (HasGhost != 0) begin : g_ghost
+    rheo_ram_sdp #(.Width(XpW), .Depth(GhostDepth)) u_ghost_xp (
+      .clk_i(clk_i), .a_addr_i(GAW'(p3_q[PIdx +: SAW])), .a_data_o(ghost_xp),
+      .b_we_i(gx_we_i), .b_addr_i(gx_addr_i), .b_data_i(gx_wdata_i));
+    rheo_ram_sdp #(.Width(3 * SumW), .Depth(GhostDepth)) u_ghost_sum (
+      .clk_i(clk_i), .a_addr_i(gs_raddr_i), .a_data_o(gs_rdata_o),
+      .b_we_i(gs_we), .b_addr_i(gs_waddr), .b_data_i(gs_wdata));
+  end else begin : g_no_ghost
+    logic unused_gs;
+    assign unused_gs = ^{gs_we, gs_waddr, gs_wdata};
+    assign ghost_xp = '0;
+    assign gs_rdata_o = '0;
+  end
+
+  // ---------------------------------------------------------------- SRAM
+  // This step's device is read by the stream, the other written by the TEM's results; the
+  // host reads and writes this step's device (the one the next step reads) while idle.
+  logic rd_cmd, wr_cmd;
+  logic [NW-1:0] wr_addr;
+  logic [DW-1:0] wr_word;
+  logic [DW-1:0] zbt_rdata [2];
+  for (genvar b = 0; b < 2; b++) begin : g_zbt
+    logic reads, valid, we;
+    logic [NW-1:0] addr;
+    logic [DW-1:0] wdata;
+    assign reads = (cur_dev_i == 1'(b));
+    always_comb begin
+      if (idle_i) begin
+        valid = reads && host_zbt_valid_i;
+        we = host_zbt_we_i;
+        addr = host_zbt_addr_i;
+        wdata = host_zbt_wdata_i;
+      end else if (reads) begin
+        valid = rd_cmd;
+        we = 1'b0;
+        addr = s_n;
+        wdata = '0;
+      end else begin
+        valid = wr_cmd;
+        we = 1'b1;
+        addr = wr_addr;
+        wdata = wr_word;
+      end
+    end
+    rheo_zbt_port u_port (
+      .clk_i(clk_i), .rst_ni(rst_ni), .cmd_valid_i(valid), .cmd_we_i(we), .cmd_addr_i(addr),
+      .cmd_wdata_i(wdata), .rdata_o(zbt_rdata[b]),
+      .zbt_a_o(zbt_a_o[b*NW +: NW]), .zbt_ce_n_o(zbt_ce_n_o[b]), .zbt_we_n_o(zbt_we_n_o[b]),
+      .zbt_d_o(zbt_d_o[b*DW +: DW]), .zbt_d_oe_o(zbt_d_oe_o[b]), .zbt_q_i(zbt_q_i[b*DW +: DW]));
+  end
+  assign rd_cmd = s_slot && s_edge;
+  logic [DW-1:0] word4;
+  assign word4 = zbt_rdata[cur_dev_i];
+  assign host_zbt_rdata_o = word4;
+
+  // ---------------------------------------------------------------- operands E+4..E+6
+  logic [XpW-1:0] xs4, xs_hold_q;
+  assign xs4 = !p4_q[PFirst] ? xs_hold_q : (p4_q[PCross] ? ghost_xp : xp_b);
+  assign cls_o = word4[W +: ClsW];
+  logic [PW-1:0] p5_q, p6_q;
+  logic [XpW-1:0] xs5_q, xe5_q, xs6_q, xe6_q;
+  logic [W-1:0] d5_q, d6_q, len6_q;
+  logic [ClsW-1:0] cls5_q, cls6_q;
+  logic fin5_q, fin6_q;  // the edge is the first into its end
+  always_ff @(posedge clk_i) begin
+    if (p4_q[PSlot] && p4_q[PFirst]) xs_hold_q <= xs4;
+    xs5_q <= xs4;
+    xe5_q <= xp_a;
+    d5_q <= word4[W-1:0];
+    cls5_q <= word4[W +: ClsW];
+    fin5_q <= word4[W + ClsW];
+    xs6_q <= xs5_q;
+    xe6_q <= xe5_q;
+    d6_q <= d5_q;
+    cls6_q <= cls5_q;
+    fin6_q <= fin5_q;
+    len6_q <= len_i;
+  end
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      p5_q <= '0;
+      p6_q <= '0;
+    end else begin
+      p5_q <= p4_q;
+      p6_q <= p5_q;
+    end
+  end
+
+  // ---------------------------------------------------------------- TEM
+  logic tem_valid, tem_sat, tem_degen;
+  logic [3*W-1:0] tem_f;
+  logic [W-1:0] tem_d;
+  logic unused_tem;
+  logic [0:0] tem_idx;
+  logic [W-1:0] tem_m;
+  rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(1)) u_tem (
+    .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(p6_q[PSlot] && p6_q[PEdge]), .idx_i(1'b0),
+    .xs_i(xs6_q[0 +: 3*W]), .xe_i(xe6_q[0 +: 3*W]), .ps_i(xs6_q[3*W +: 3*W]),
+    .pe_i(xe6_q[3*W +: 3*W]), .d_i(d6_q), .len_i(len6_q), .m_i('0), .coef_i(coef_i),
+    .mat_flags_i(mflags_i), .valid_o(tem_valid), .idx_o(tem_idx), .f_o(tem_f), .d_o(tem_d),
+    .m_o(tem_m), .sat_o(tem_sat), .degenerate_o(tem_degen));
+  assign unused_tem = ^{tem_idx, tem_m};
+  // The slot's fields wait beside the TEM (padding slots too).
+  localparam int UW = PW + ClsW + 1;
+  logic [UW-1:0] u_in, u_out;
+  logic [PW-1:0] pu;
+  logic [ClsW-1:0] u_cls;
+  logic u_fin;
+  assign u_in = {fin6_q, cls6_q, p6_q};
+  rheo_delay #(.W(UW), .N(TemLat)) u_beside_tem (
+    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(u_in), .q_o(u_out));
+  assign pu = u_out[PW-1:0];
+  assign u_cls = u_out[PW +: ClsW];
+  assign u_fin = u_out[PW + ClsW];
+  logic u_edge;
+  assign u_edge = pu[PSlot] && pu[PEdge];
+
+  // ---------------------------------------------------------------- E+46: results
+  assign wr_cmd = u_edge;
+  assign wr_addr = pu[PN +: NW];
+  assign wr_word = {u_fin, u_cls, tem_d};
+  logic signed [SumW-1:0] f_ext [3];
+  logic [3*SumW-1:0] neg_f;
+  for (genvar i = 0; i < 3; i++) begin : g_f
+    assign f_ext[i] = SumW'($signed(tem_f[i*W +: W]));
+    assign neg_f[i*SumW +: SumW] = -f_ext[i];
+  end
+  logic [WAW-1:0] sum_raddr;
+  logic [3*SumW-1:0] end_sum;
+  rheo_sweep_end_sums #(.SumW(SumW), .Depth(Window)) u_end_sums (
+    .clk_i(clk_i), .rst_ni(rst_ni), .add_valid_i(u_edge), .add_first_i(u_fin),
+    .add_addr_i(pu[PE +: WAW]), .add_val_i(neg_f), .sum_addr_i(sum_raddr), .sum_o(end_sum));
+  // The particle's start sum.
+  logic [3*SumW-1:0] sacc_q;
+  logic g1_q, g1_cross_q;
+  logic [SAW-1:0] g1_idx_q;
+  always_ff @(posedge clk_i) begin
+    for (int i = 0; i < 3; i++)
+      sacc_q[i*SumW +: SumW] <= (pu[PFirst] ? SumW'(0) : sacc_q[i*SumW +: SumW]) +
+                                (u_edge ? f_ext[i] : SumW'(0));
+    g1_cross_q <= pu[PCross];
+    g1_idx_q <= pu[PIdx +: SAW];
+  end
+
+  // ---------------------------------------------------------------- E+47: a particle is done
+  // Cross: its start sum to the ghost sums. Own: read its end sum, the lane above's ghost
+  // sum and its queued x, p.
+  logic own_end, cross_end;
+  assign own_end = g1_q && !g1_cross_q;
+  assign cross_end = g1_q && g1_cross_q;
+  assign gs_we = cross_end;
+  assign gs_waddr = GAW'(g1_idx_q);
+  assign gs_wdata = sacc_q;
+  assign sum_raddr = g1_idx_q[WAW-1:0];
+  // The lane above's ghosts are this slab's last next_ghost particles.
+  logic [SAW:0] ghost_from;
+  assign ghost_from = count_i - (SAW+1)'(next_ghost_i);
+  assign gsn_raddr_o = GAW'(g1_idx_q - SAW'(ghost_from));
+
+  // The MPM queue: an own particle's x, p and static fields from its first slot to its MPM.
+  localparam int QW = XpW + MassW + 4;
+  (* ram_style = "distributed" *) logic [QW-1:0] q_mem [QDepth];
+  logic [QAW-1:0] q_wr_q, q_rd_q;
+  logic [QAW:0] q_cnt_q;
+  logic q_push;
+  logic [QW-1:0] q_head;
+  assign q_push = p4_q[PSlot] && p4_q[PFirst] && !p4_q[PCross];
+  assign q_head = q_mem[q_rd_q];
+  always_ff @(posedge clk_i) begin
+    if (q_push)
+      q_mem[q_wr_q] <= {p4_q[PHasCross], p4_q[PHasIn], p4_q[PPlate], p4_q[PFixed],
+                        p4_q[PMass +: MassW], xp_b};
+  end
+  logic h_has_cross, h_has_in;
+  assign mass_o = q_head[XpW +: MassW];
+  assign h_has_in = q_head[XpW + MassW + 2];
+  assign h_has_cross = q_head[XpW + MassW + 3];
+
+  // E+48..E+50: the particle's force.
+  logic m2_q, m3_q, m4_q;
+  logic [3*SumW-1:0] m2_sacc_q;
+  logic m2_has_in_q, m2_has_cross_q, m2_ghost_ok_q;
+  logic [QW-1:0] m2_e_q, m3_e_q, m4_e_q;
+  logic [SAW-1:0] m2_idx_q, m3_idx_q, m4_idx_q;
+  logic [CoefW-1:0] m3_minv_q, m4_minv_q;
+  logic signed [AccW-1:0] m3_f_q [3];
+  logic [3*W-1:0] m4_f_q;
+  logic m4_sat_q;
+  always_ff @(posedge clk_i) begin
+    m2_sacc_q <= sacc_q;
+    m2_e_q <= q_head;
+    m2_idx_q <= g1_idx_q;
+    m2_has_in_q <= h_has_in;
+    m2_has_cross_q <= h_has_cross;
+    m2_ghost_ok_q <= {1'b0, g1_idx_q} >= ghost_from && next_ghost_i != '0;
+    for (int i = 0; i < 3; i++)
+      m3_f_q[i] <= AccW'($signed(m2_sacc_q[i*SumW +: SumW])) +
+                   (m2_has_in_q ? AccW'($signed(end_sum[i*SumW +: SumW])) : AccW'(0)) +
+                   (m2_has_cross_q && m2_ghost_ok_q ? AccW'($signed(gsn_rdata_i[i*SumW +: SumW]))
+                                                    : AccW'(0));
+    m3_e_q <= m2_e_q;
+    m3_idx_q <= m2_idx_q;
+    m3_minv_q <= minv_i;
+    m4_sat_q <= 1'b0;
+    for (int i = 0; i < 3; i++) begin
+      if (m3_f_q[i] > AccW'(2**(W-1) - 1)) begin
+        m4_f_q[i*W +: W] <= {1'b0, {(W-1){1'b1}}};
+        m4_sat_q <= 1'b1;
+      end else if (m3_f_q[i] < -AccW'(2**(W-1))) begin
+        m4_f_q[i*W +: W] <= {1'b1, {(W-1){1'b0}}};
+        m4_sat_q <= 1'b1;
+      end else begin
+        m4_f_q[i*W +: W] <= m3_f_q[i][W-1:0];
+      end
+    end
+    m4_e_q <= m3_e_q;
+    m4_idx_q <= m3_idx_q;
+    m4_minv_q <= m3_minv_q;
+  end
+
+  // ---------------------------------------------------------------- MPM
+  logic mpm_valid, mpm_sat;
+  logic [SAW-1:0] mpm_idx;
+  logic [3*W-1:0] mpm_x, mpm_p;
+  rheo_mpm #(.W(W), .CoefW(CoefW), .IdxW(SAW)) u_mpm (
+    .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(m4_q), .idx_i(m4_idx_q), .f_i(m4_f_q),
+    .x_i(m4_e_q[0 +: 3*W]), .p_i(m4_e_q[3*W +: 3*W]), .x0_i(m4_e_q[0 +: 3*W]),
+    .minv_i(m4_minv_q), .flags_i({m4_e_q[XpW + MassW + 1], m4_e_q[XpW + MassW]}),
+    .g_i(gravity_i), .plate_z_i(plate_z_i), .plate_en_i(plate_en_i), .floor_en_i(floor_en_i),
+    .hold_en_i(hold_en_i), .plate_prev_i(plate_prev_i), .valid_o(mpm_valid), .idx_o(mpm_idx),
+    .x_o(mpm_x), .p_o(mpm_p), .plate_f_o(plate_f_o), .sat_o(mpm_sat));
+  assign plate_valid_o = mpm_valid;
+  // To the lane above's ghost copy.
+  assign gxo_we_o = mpm_valid && {1'b0, mpm_idx} >= ghost_from && next_ghost_i != '0;
+  assign gxo_addr_o = GAW'(mpm_idx - SAW'(ghost_from));
+  assign gxo_wdata_o = {mpm_p, mpm_x};
+
+  // ---------------------------------------------------------------- control and checks
+  logic [SAW:0] written_q;
+  logic [GAW:0] xread_q, xdone_q;
+  logic conflict;
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      g1_q <= 1'b0;
+      m2_q <= 1'b0;
+      m3_q <= 1'b0;
+      m4_q <= 1'b0;
+      wb_q <= 1'b0;
+      wb_addr_q <= '0;
+      wb_data_q <= '0;
+      q_wr_q <= '0;
+      q_rd_q <= '0;
+      q_cnt_q <= '0;
+      written_q <= '0;
+      done_o <= 1'b1;
+      xread_q <= '0;
+      xdone_q <= '0;
+    end else begin
+      g1_q <= pu[PSlot] && pu[PLast];
+      m2_q <= own_end;
+      m3_q <= m2_q;
+      m4_q <= m3_q;
+      if (q_push) q_wr_q <= q_wr_q + 1'b1;
+      if (own_end) q_rd_q <= q_rd_q + 1'b1;
+      q_cnt_q <= q_cnt_q + (QAW+1)'(q_push) - (QAW+1)'(own_end);
+      // An MPM result waits in wb for port B (a start read has it in that clock).
+      if (mpm_valid) begin
+        wb_q <= 1'b1;
+        wb_addr_q <= mpm_idx;
+        wb_data_q <= {mpm_p, mpm_x};
+      end else if (wb_q && !start_rd) begin
+        wb_q <= 1'b0;
+      end
+      if (go_i) begin
+        written_q <= '0;
+        done_o <= count_i == '0;
+        xread_q <= '0;
+        xdone_q <= '0;
+      end else begin
+        if (mpm_valid) written_q <= written_q + 1'b1;
+        done_o <= (written_q + (SAW+1)'(mpm_valid)) == count_i;
+        if (ghost_rd) xread_q <= xread_q + 1'b1;
+        if (cross_end) xdone_q <= xdone_q + 1'b1;
+      end
+    end
+  end
+  assign xread_o = xread_q;
+  assign xdone_o = xdone_q;
+  // A ghost sum read before the lane above wrote it, or a ghost write before it read the
+  // ghost, would mix steps: the host's start delays keep them apart; the flag reports a
+  // load that does not.
+  assign conflict = (own_end && h_has_cross &&
+                     !({1'b0, g1_idx_q} >= ghost_from && next_ghost_i != '0 &&
+                       {1'b0, gsn_raddr_o} < next_xdone_i)) ||
+                    (gxo_we_o && !({1'b0, gxo_addr_o} < next_xread_i)) ||
+                    starved || (q_push && q_cnt_q == (QAW+1)'(QDepth)) ||
+                    (mpm_valid && wb_q && start_rd);
+  always_comb begin
+    flags_o = '0;
+    if (tem_valid && tem_sat) flags_o |= 32'(rheo_consts_pkg::StatusTemSat);
+    if (tem_valid && tem_degen) flags_o |= 32'(rheo_consts_pkg::StatusDegenerate);
+    if ((mpm_valid && mpm_sat) || (m4_q && m4_sat_q)) flags_o |= 32'(rheo_consts_pkg::StatusMpmSat);
+    if (conflict) flags_o |= 32'(rheo_consts_pkg::StatusScheduleConflict);
+  end
+
+`ifndef SYNTHESIS
+  // The queue never overflows (at most (TemLatency + 11) / SweepOwnMinSlots particles wait)
+  // and an MPM result never finds the previous one still waiting for port B.
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+    end else begin
+      assert (!(q_push && q_cnt_q == (QAW+1)'(QDepth))) else $error("rheo_sweep_lane: MPM queue overflow");
+      assert (!(own_end && q_cnt_q == '0)) else $error("rheo_sweep_lane: MPM queue empty at a particle's end");
+      assert (!(mpm_valid && wb_q && start_rd)) else $error("rheo_sweep_lane: two MPM results for port B");
+      assert (!starved) else $error("rheo_sweep_lane: the stream starved (prefetch behind)");
+    end
+  end
+`endif
+endmodule
