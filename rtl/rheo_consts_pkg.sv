@@ -138,7 +138,8 @@ package rheo_consts_pkg;
   localparam int SweepCrossMinSlots = 1;  // slots of a ghost particle at least
   localparam int SweepOwnMinSlots = 2;  // slots of an own particle at least
   localparam int SweepLeadClocks = 4;  // plate word to a lane's first slot
-  localparam int SweepDrainCycles = 64;  // cycles per step beyond the slowest lane
+  localparam int TemLateCoefClocks = 29;  // rheo_tem with LateCoef: coefficients this many clocks after the edge
+  localparam int SweepDrainCycles = 63;  // cycles per step beyond the slowest lane
 
   // Words per entry of each region.
   function automatic logic [EntryFieldW-1:0] words_per_entry(

@@ -118,7 +118,7 @@ module rheo_sweep_core #(
   logic [Offsets*OffW-1:0] offsets;
   logic [Lanes*ClsW-1:0] cls;
   logic [Lanes*W-1:0] len;
-  logic [Lanes*MIdxW-1:0] mat;
+  logic [Lanes*MIdxW-1:0] cls_mat, mat;
   logic [Lanes*MassW-1:0] mass;
   logic [Lanes*CoefW-1:0] minv;
   logic [Lanes*NumCoef*CoefW-1:0] coef;
@@ -126,7 +126,7 @@ module rheo_sweep_core #(
   rheo_sweep_tables #(.Lanes(Lanes), .W(W), .CoefW(CoefW)) u_tables (
     .clk_i(clk_i), .rst_ni(rst_ni), .host_we_i(host_we), .region_i(region), .index_i(index),
     .field_i(field), .wdata_i(wdata), .offsets_o(offsets), .cls_i(cls), .len_o(len),
-    .mat_o(mat), .mass_i(mass), .minv_o(minv));
+    .mat_o(cls_mat), .mass_i(mass), .minv_o(minv));
   rheo_core_mem_mat #(.Lanes(Lanes), .MaxMaterials(16), .CoefW(CoefW)) u_mat (
     .clk_i(clk_i), .host_we_i(host_we), .region_i(region), .index_i(index), .field_i(field),
     .wdata_i(wdata[CoefW-1:0]), .mat_i(mat), .coef_o(coef), .flags_o(mflags));
@@ -186,6 +186,7 @@ module rheo_sweep_core #(
       .xread_o(xread[j]), .xdone_o(xdone[j]),
       .next_xread_i(Above ? xread[JA] : '0), .next_xdone_i(Above ? xdone[JA] : '0),
       .cls_o(cls[j*ClsW +: ClsW]), .len_i(len[j*W +: W]),
+      .cls_mat_i(cls_mat[j*MIdxW +: MIdxW]), .mat_o(mat[j*MIdxW +: MIdxW]),
       .coef_i(coef[j*NumCoef*CoefW +: NumCoef*CoefW]), .mflags_i(mflags[j*MFlagsW +: MFlagsW]),
       .mass_o(mass[j*MassW +: MassW]), .minv_i(minv[j*CoefW +: CoefW]),
       .gravity_i(gravity), .plate_z_i(plate_z), .plate_en_i(plate_en), .floor_en_i(floor_en),

@@ -8,21 +8,23 @@
 //          reads the start (own: x/p port B; cross: the ghost copy)
 //   E+4    x and p of both ends and the SRAM word: its class goes to the class table; an
 //          own particle's x, p and static fields enter the MPM queue
-//   E+5    operands registered; L and the material index from the class table
-//   E+6    the material's coefficients: the TEM's input
-//   E+46   the TEM's force f and new d (TemLatency later): d goes to the written device;
+//   E+5    the TEM's input: operands, d, and L from the class table; the class's material
+//          index waits TemLateCoefClocks - 1 clocks, so that the material table's
+//          coefficients reach the TEM when its products need them (rheo_tem LateCoef)
+//   E+45   the TEM's force f and new d (TemLatency later): d goes to the written device;
 //          f is added to the particle's start sum (a register, cleared at its first slot)
 //          and -f to the end's sum (rheo_sweep_end_sums, started afresh by a first edge)
-//   E+47   a particle's last slot: its start sum is complete. Cross: written to the ghost
+//   E+46   a particle's last slot: its start sum is complete. Cross: written to the ghost
 //          sums (the lane below adds it). Own: the end sum (window copy B), the lane
-//          above's ghost sum and the queued x, p are read
-//   E+48   the three sums added (exact)
-//   E+49   saturated to a word
-//   E+50   the MPM's input; E+58 its output: x and p go to the slab (x/p port B, the clock
-//          after, or one later when a start read has the port) and, for a particle the
-//          lane above keeps a ghost copy of, to that copy; its plate force to the top
-// A lane's last slot in clock E therefore has its x and p written by clock E+60 and its
-// plate force in the top's accumulator by clock E+60: the drain of hls::kSweepDrainCycles.
+//          above's ghost sum and the queued static fields are read
+//   E+47   the three sums added (exact)
+//   E+48   saturated to a word
+//   E+49   the MPM's input (with the queued x and p); E+57 its output: x and p go to the
+//          slab (x/p port B, the clock after, or one later when a start read has the port)
+//          and, for a particle the lane above keeps a ghost copy of, to that copy; its plate
+//          force to the top
+// A lane's last slot in clock E therefore has its x and p written by clock E+59 and its
+// plate force in the top's accumulator by clock E+59: the drain of hls::kSweepDrainCycles.
 //
 // Ports between lanes: the lane below writes this lane's ghost copy and reads its ghost
 // sums; this lane reads the lane below's static words (its port B) for the ghosts'
@@ -50,6 +52,7 @@ module rheo_sweep_lane #(
   localparam int DW = rheo_consts_pkg::ZbtWordBits,
   localparam int NumCoef = rheo_consts_pkg::MaterialCoefs,
   localparam int MFlagsW = rheo_consts_pkg::MatFlagsW,
+  localparam int MIdxW = 4,
   localparam int XpW = 6 * W
 ) (
   input  logic                    clk_i,
@@ -90,8 +93,10 @@ module rheo_sweep_lane #(
   input  logic [GAW:0]            next_xdone_i,
   // Tables (rheo_sweep_tables, rheo_core_mem_mat): class -> L, material -> coefficients,
   // mass class -> 1/m, each one registered read.
-  output logic [ClsW-1:0]         cls_o,
-  input  logic [W-1:0]            len_i,
+  output logic [ClsW-1:0]         cls_o,        // E+4
+  input  logic [W-1:0]            len_i,        // E+5
+  input  logic [MIdxW-1:0]        cls_mat_i,    // E+5: the class's material
+  output logic [MIdxW-1:0]        mat_o,        // to the material table, TemLateCoefClocks - 1 later
   input  logic [NumCoef*CoefW-1:0] coef_i,
   input  logic [MFlagsW-1:0]      mflags_i,
   output logic [MassW-1:0]        mass_o,
@@ -234,22 +239,31 @@ module rheo_sweep_lane #(
     .b_data_i(host_stat_wdata_i), .b_data_o(stat_b));
   assign next_stat_o = stat_b;
   assign host_stat_rdata_o = stat_b;
-  // The ghost copy and the ghost sums (lanes with a lane below).
+  // The ghost copy and the MPM queue's x and p share a memory (block RAM): the ghost copy
+  // at addresses 0 .. GhostDepth-1 (lanes with a lane below), the queue above it. Port A
+  // reads the ghosts in the cross sweep and serves the queue in the own sweep (a write when
+  // a particle's first slot has read it, a read for its MPM); port B takes the lane below's
+  // (or the host's) ghost writes. The ghost sums have a memory of their own.
+  localparam int QBase = (HasGhost != 0) ? GhostDepth : 0;
+  localparam int GQDepth = QBase + QDepth;
+  localparam int GQAW = $clog2(GQDepth);
   logic [XpW-1:0] ghost_xp;
+  logic gq_we;
+  logic [GQAW-1:0] gq_addr;
+  logic [XpW-1:0] gq_wdata;
+  rheo_ram_tdp2 #(.Width(XpW), .Depth(GQDepth)) u_ghost_queue (
+    .clk_i(clk_i), .a_we_i(gq_we), .a_addr_i(gq_addr), .a_data_i(gq_wdata), .a_data_o(ghost_xp),
+    .b_we_i(HasGhost != 0 && gx_we_i), .b_addr_i(GQAW'(gx_addr_i)), .b_data_i(gx_wdata_i));
   logic gs_we;
   logic [GAW-1:0] gs_waddr;
   logic [3*SumW-1:0] gs_wdata;
   if (HasGhost != 0) begin : g_ghost
-    rheo_ram_sdp #(.Width(XpW), .Depth(GhostDepth)) u_ghost_xp (
-      .clk_i(clk_i), .a_addr_i(GAW'(p3_q[PIdx +: SAW])), .a_data_o(ghost_xp),
-      .b_we_i(gx_we_i), .b_addr_i(gx_addr_i), .b_data_i(gx_wdata_i));
     rheo_ram_sdp #(.Width(3 * SumW), .Depth(GhostDepth)) u_ghost_sum (
       .clk_i(clk_i), .a_addr_i(gs_raddr_i), .a_data_o(gs_rdata_o),
       .b_we_i(gs_we), .b_addr_i(gs_waddr), .b_data_i(gs_wdata));
   end else begin : g_no_ghost
     logic unused_gs;
     assign unused_gs = ^{gs_we, gs_waddr, gs_wdata};
-    assign ghost_xp = '0;
     assign gs_rdata_o = '0;
   end
 
@@ -298,11 +312,11 @@ module rheo_sweep_lane #(
   logic [XpW-1:0] xs4, xs_hold_q;
   assign xs4 = !p4_q[PFirst] ? xs_hold_q : (p4_q[PCross] ? ghost_xp : xp_b);
   assign cls_o = word4[W +: ClsW];
-  logic [PW-1:0] p5_q, p6_q;
-  logic [XpW-1:0] xs5_q, xe5_q, xs6_q, xe6_q;
-  logic [W-1:0] d5_q, d6_q, len6_q;
-  logic [ClsW-1:0] cls5_q, cls6_q;
-  logic fin5_q, fin6_q;  // the edge is the first into its end
+  logic [PW-1:0] p5_q;
+  logic [XpW-1:0] xs5_q, xe5_q;
+  logic [W-1:0] d5_q;
+  logic [ClsW-1:0] cls5_q;
+  logic fin5_q;  // the edge is the first into its end
   always_ff @(posedge clk_i) begin
     if (p4_q[PSlot] && p4_q[PFirst]) xs_hold_q <= xs4;
     xs5_q <= xs4;
@@ -310,55 +324,56 @@ module rheo_sweep_lane #(
     d5_q <= word4[W-1:0];
     cls5_q <= word4[W +: ClsW];
     fin5_q <= word4[W + ClsW];
-    xs6_q <= xs5_q;
-    xe6_q <= xe5_q;
-    d6_q <= d5_q;
-    cls6_q <= cls5_q;
-    fin6_q <= fin5_q;
-    len6_q <= len_i;
   end
   always_ff @(posedge clk_i or negedge rst_ni) begin
-    if (!rst_ni) begin
-      p5_q <= '0;
-      p6_q <= '0;
-    end else begin
-      p5_q <= p4_q;
-      p6_q <= p5_q;
-    end
+    if (!rst_ni) p5_q <= '0;
+    else p5_q <= p4_q;
   end
 
   // ---------------------------------------------------------------- TEM
+  // The TEM takes the edge in E+5 (L from the class table with it) and its material's
+  // coefficients TemLateCoefClocks later, when its products need them: the material index
+  // (from the class table in E+5) waits here, four bits wide, instead of the six
+  // coefficients inside the TEM.
+  localparam int LateCoef = rheo_consts_pkg::TemLateCoefClocks;
+  rheo_delay #(.W(MIdxW), .N(LateCoef - 1)) u_mat_wait (
+    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(cls_mat_i), .q_o(mat_o));
   logic tem_valid, tem_sat, tem_degen;
   logic [3*W-1:0] tem_f;
   logic [W-1:0] tem_d;
   logic unused_tem;
   logic [0:0] tem_idx;
   logic [W-1:0] tem_m;
-  rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(1)) u_tem (
-    .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(p6_q[PSlot] && p6_q[PEdge]), .idx_i(1'b0),
-    .xs_i(xs6_q[0 +: 3*W]), .xe_i(xe6_q[0 +: 3*W]), .ps_i(xs6_q[3*W +: 3*W]),
-    .pe_i(xe6_q[3*W +: 3*W]), .d_i(d6_q), .len_i(len6_q), .m_i('0), .coef_i(coef_i),
+  rheo_tem #(.W(W), .CoefW(CoefW), .IdxW(1), .LateCoef(1)) u_tem (
+    .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(p5_q[PSlot] && p5_q[PEdge]), .idx_i(1'b0),
+    .xs_i(xs5_q[0 +: 3*W]), .xe_i(xe5_q[0 +: 3*W]), .ps_i(xs5_q[3*W +: 3*W]),
+    .pe_i(xe5_q[3*W +: 3*W]), .d_i(d5_q), .len_i(len_i), .m_i('0), .coef_i(coef_i),
     .mat_flags_i(mflags_i), .valid_o(tem_valid), .idx_o(tem_idx), .f_o(tem_f), .d_o(tem_d),
     .m_o(tem_m), .sat_o(tem_sat), .degenerate_o(tem_degen));
   assign unused_tem = ^{tem_idx, tem_m};
-  // The slot's fields wait beside the TEM (padding slots too).
-  localparam int UW = PW + ClsW + 1;
+  // What the results need of the slot waits beside the TEM (padding slots too): its flags,
+  // the end's window address, the class and first tag. The SRAM word and the particle
+  // are counted again at the output (they come in stream order).
+  localparam int UW = 5 + WAW + ClsW + 1;
   logic [UW-1:0] u_in, u_out;
-  logic [PW-1:0] pu;
+  logic u_slot, u_edge_bit, u_first, u_last, u_cross, u_fin;
+  logic [WAW-1:0] u_e;
   logic [ClsW-1:0] u_cls;
-  logic u_fin;
-  assign u_in = {fin6_q, cls6_q, p6_q};
+  assign u_in = {fin5_q, cls5_q, p5_q[PE +: WAW], p5_q[PCross], p5_q[PLast], p5_q[PFirst],
+                 p5_q[PEdge], p5_q[PSlot]};
   rheo_delay #(.W(UW), .N(TemLat)) u_beside_tem (
     .clk_i(clk_i), .rst_ni(rst_ni), .d_i(u_in), .q_o(u_out));
-  assign pu = u_out[PW-1:0];
-  assign u_cls = u_out[PW +: ClsW];
-  assign u_fin = u_out[PW + ClsW];
+  assign {u_fin, u_cls, u_e, u_cross, u_last, u_first, u_edge_bit, u_slot} = u_out;
   logic u_edge;
-  assign u_edge = pu[PSlot] && pu[PEdge];
+  assign u_edge = u_slot && u_edge_bit;
+  // The written device's word number and the particle of the slot, counted at the output:
+  // edges and particles leave the TEM in the order they entered it.
+  logic [NW-1:0] wr_n_q;
+  logic [SAW-1:0] u_cross_idx_q, u_own_idx_q;
 
-  // ---------------------------------------------------------------- E+46: results
+  // ---------------------------------------------------------------- E+45: results
   assign wr_cmd = u_edge;
-  assign wr_addr = pu[PN +: NW];
+  assign wr_addr = wr_n_q;
   assign wr_word = {u_fin, u_cls, tem_d};
   logic signed [SumW-1:0] f_ext [3];
   logic [3*SumW-1:0] neg_f;
@@ -370,22 +385,22 @@ module rheo_sweep_lane #(
   logic [3*SumW-1:0] end_sum;
   rheo_sweep_end_sums #(.SumW(SumW), .Depth(Window)) u_end_sums (
     .clk_i(clk_i), .rst_ni(rst_ni), .add_valid_i(u_edge), .add_first_i(u_fin),
-    .add_addr_i(pu[PE +: WAW]), .add_val_i(neg_f), .sum_addr_i(sum_raddr), .sum_o(end_sum));
+    .add_addr_i(u_e), .add_val_i(neg_f), .sum_addr_i(sum_raddr), .sum_o(end_sum));
   // The particle's start sum.
   logic [3*SumW-1:0] sacc_q;
   logic g1_q, g1_cross_q;
   logic [SAW-1:0] g1_idx_q;
   always_ff @(posedge clk_i) begin
     for (int i = 0; i < 3; i++)
-      sacc_q[i*SumW +: SumW] <= (pu[PFirst] ? SumW'(0) : sacc_q[i*SumW +: SumW]) +
+      sacc_q[i*SumW +: SumW] <= (u_first ? SumW'(0) : sacc_q[i*SumW +: SumW]) +
                                 (u_edge ? f_ext[i] : SumW'(0));
-    g1_cross_q <= pu[PCross];
-    g1_idx_q <= pu[PIdx +: SAW];
+    g1_cross_q <= u_cross;
+    g1_idx_q <= u_cross ? u_cross_idx_q : u_own_idx_q;
   end
 
-  // ---------------------------------------------------------------- E+47: a particle is done
+  // ---------------------------------------------------------------- E+46: a particle is done
   // Cross: its start sum to the ghost sums. Own: read its end sum, the lane above's ghost
-  // sum and its queued x, p.
+  // sum and its queued static fields.
   logic own_end, cross_end;
   assign own_end = g1_q && !g1_cross_q;
   assign cross_end = g1_q && g1_cross_q;
@@ -398,30 +413,49 @@ module rheo_sweep_lane #(
   assign ghost_from = count_i - (SAW+1)'(next_ghost_i);
   assign gsn_raddr_o = GAW'(g1_idx_q - SAW'(ghost_from));
 
-  // The MPM queue: an own particle's x, p and static fields from its first slot to its MPM.
-  localparam int QW = XpW + MassW + 4;
-  (* ram_style = "distributed" *) logic [QW-1:0] q_mem [QDepth];
-  logic [QAW-1:0] q_wr_q, q_rd_q;
+  logic m2_q, m3_q, m4_q;  // a particle's force sum, saturation, MPM input
+  // The MPM queue: an own particle's static fields (LUT RAM, read in E+46) and its x and p
+  // (the ghost memory's upper part, read in E+48 for the MPM's input in E+49), from its
+  // first slot to its MPM. The x/p write waits a clock when the MPM's read has port A
+  // (both come at most every SweepOwnMinSlots clocks).
+  localparam int SW = MassW + 4;
+  (* ram_style = "distributed" *) logic [SW-1:0] qs_mem [QDepth];
+  logic [QAW-1:0] q_wr_q, qs_wr_q, qs_rd_q, qx_rd_q;
   logic [QAW:0] q_cnt_q;
-  logic q_push;
-  logic [QW-1:0] q_head;
+  logic q_push, qx_pend_q;
+  logic [XpW-1:0] qx_pend_data_q;
+  logic [SW-1:0] qs_head;
   assign q_push = p4_q[PSlot] && p4_q[PFirst] && !p4_q[PCross];
-  assign q_head = q_mem[q_rd_q];
+  assign qs_head = qs_mem[qs_rd_q];
   always_ff @(posedge clk_i) begin
     if (q_push)
-      q_mem[q_wr_q] <= {p4_q[PHasCross], p4_q[PHasIn], p4_q[PPlate], p4_q[PFixed],
-                        p4_q[PMass +: MassW], xp_b};
+      qs_mem[qs_wr_q] <= {p4_q[PHasCross], p4_q[PHasIn], p4_q[PPlate], p4_q[PFixed],
+                          p4_q[PMass +: MassW]};
+  end
+  // Port A: a ghost read (cross sweep), else the MPM's read, else a waiting x/p write.
+  logic q_write;
+  always_comb begin
+    q_write = 1'b0;
+    gq_wdata = qx_pend_data_q;
+    if (ghost_rd) begin
+      gq_addr = GQAW'(p3_q[PIdx +: SAW]);
+    end else if (m3_q) begin
+      gq_addr = GQAW'(QBase) + GQAW'(qx_rd_q);
+    end else begin
+      gq_addr = GQAW'(QBase) + GQAW'(q_wr_q);
+      q_write = qx_pend_q;
+    end
+    gq_we = q_write;
   end
   logic h_has_cross, h_has_in;
-  assign mass_o = q_head[XpW +: MassW];
-  assign h_has_in = q_head[XpW + MassW + 2];
-  assign h_has_cross = q_head[XpW + MassW + 3];
+  assign mass_o = qs_head[0 +: MassW];
+  assign h_has_in = qs_head[MassW + 2];
+  assign h_has_cross = qs_head[MassW + 3];
 
-  // E+48..E+50: the particle's force.
-  logic m2_q, m3_q, m4_q;
+  // E+47..E+49: the particle's force.
   logic [3*SumW-1:0] m2_sacc_q;
   logic m2_has_in_q, m2_has_cross_q, m2_ghost_ok_q;
-  logic [QW-1:0] m2_e_q, m3_e_q, m4_e_q;
+  logic [1:0] m2_flags_q, m3_flags_q, m4_flags_q;  // {plate, fixed}
   logic [SAW-1:0] m2_idx_q, m3_idx_q, m4_idx_q;
   logic [CoefW-1:0] m3_minv_q, m4_minv_q;
   logic signed [AccW-1:0] m3_f_q [3];
@@ -429,7 +463,7 @@ module rheo_sweep_lane #(
   logic m4_sat_q;
   always_ff @(posedge clk_i) begin
     m2_sacc_q <= sacc_q;
-    m2_e_q <= q_head;
+    m2_flags_q <= qs_head[MassW +: 2];
     m2_idx_q <= g1_idx_q;
     m2_has_in_q <= h_has_in;
     m2_has_cross_q <= h_has_cross;
@@ -439,7 +473,7 @@ module rheo_sweep_lane #(
                    (m2_has_in_q ? AccW'($signed(end_sum[i*SumW +: SumW])) : AccW'(0)) +
                    (m2_has_cross_q && m2_ghost_ok_q ? AccW'($signed(gsn_rdata_i[i*SumW +: SumW]))
                                                     : AccW'(0));
-    m3_e_q <= m2_e_q;
+    m3_flags_q <= m2_flags_q;
     m3_idx_q <= m2_idx_q;
     m3_minv_q <= minv_i;
     m4_sat_q <= 1'b0;
@@ -454,7 +488,7 @@ module rheo_sweep_lane #(
         m4_f_q[i*W +: W] <= m3_f_q[i][W-1:0];
       end
     end
-    m4_e_q <= m3_e_q;
+    m4_flags_q <= m3_flags_q;
     m4_idx_q <= m3_idx_q;
     m4_minv_q <= m3_minv_q;
   end
@@ -463,10 +497,12 @@ module rheo_sweep_lane #(
   logic mpm_valid, mpm_sat;
   logic [SAW-1:0] mpm_idx;
   logic [3*W-1:0] mpm_x, mpm_p;
+  logic [XpW-1:0] qx_head;
+  assign qx_head = ghost_xp;  // read in E+48 (m3_q)
   rheo_mpm #(.W(W), .CoefW(CoefW), .IdxW(SAW)) u_mpm (
     .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(m4_q), .idx_i(m4_idx_q), .f_i(m4_f_q),
-    .x_i(m4_e_q[0 +: 3*W]), .p_i(m4_e_q[3*W +: 3*W]), .x0_i(m4_e_q[0 +: 3*W]),
-    .minv_i(m4_minv_q), .flags_i({m4_e_q[XpW + MassW + 1], m4_e_q[XpW + MassW]}),
+    .x_i(qx_head[0 +: 3*W]), .p_i(qx_head[3*W +: 3*W]), .x0_i(qx_head[0 +: 3*W]),
+    .minv_i(m4_minv_q), .flags_i(m4_flags_q),
     .g_i(gravity_i), .plate_z_i(plate_z_i), .plate_en_i(plate_en_i), .floor_en_i(floor_en_i),
     .hold_en_i(hold_en_i), .plate_prev_i(plate_prev_i), .valid_o(mpm_valid), .idx_o(mpm_idx),
     .x_o(mpm_x), .p_o(mpm_p), .plate_f_o(plate_f_o), .sat_o(mpm_sat));
@@ -490,20 +526,39 @@ module rheo_sweep_lane #(
       wb_addr_q <= '0;
       wb_data_q <= '0;
       q_wr_q <= '0;
-      q_rd_q <= '0;
+      qs_wr_q <= '0;
+      qs_rd_q <= '0;
+      qx_rd_q <= '0;
+      qx_pend_q <= 1'b0;
+      qx_pend_data_q <= '0;
       q_cnt_q <= '0;
+      wr_n_q <= '0;
+      u_cross_idx_q <= '0;
+      u_own_idx_q <= '0;
       written_q <= '0;
       done_o <= 1'b1;
       xread_q <= '0;
       xdone_q <= '0;
     end else begin
-      g1_q <= pu[PSlot] && pu[PLast];
+      g1_q <= u_slot && u_last;
       m2_q <= own_end;
       m3_q <= m2_q;
       m4_q <= m3_q;
-      if (q_push) q_wr_q <= q_wr_q + 1'b1;
-      if (own_end) q_rd_q <= q_rd_q + 1'b1;
-      q_cnt_q <= q_cnt_q + (QAW+1)'(q_push) - (QAW+1)'(own_end);
+      if (q_push) qs_wr_q <= qs_wr_q + 1'b1;
+      if (own_end) qs_rd_q <= qs_rd_q + 1'b1;
+      if (m3_q) qx_rd_q <= qx_rd_q + 1'b1;
+      // The x/p entry waits in qx_pend until port A takes it.
+      if (q_write) q_wr_q <= q_wr_q + 1'b1;
+      if (q_push) begin
+        qx_pend_q <= 1'b1;
+        qx_pend_data_q <= xp_b;
+      end else if (q_write) begin
+        qx_pend_q <= 1'b0;
+      end
+      q_cnt_q <= q_cnt_q + (QAW+1)'(q_push) - (QAW+1)'(m3_q);
+      if (u_edge) wr_n_q <= wr_n_q + 1'b1;
+      if (u_slot && u_last && u_cross) u_cross_idx_q <= u_cross_idx_q + 1'b1;
+      if (u_slot && u_last && !u_cross) u_own_idx_q <= u_own_idx_q + 1'b1;
       // An MPM result waits in wb for port B (a start read has it in that clock).
       if (mpm_valid) begin
         wb_q <= 1'b1;
@@ -513,6 +568,9 @@ module rheo_sweep_lane #(
         wb_q <= 1'b0;
       end
       if (go_i) begin
+        wr_n_q <= '0;
+        u_cross_idx_q <= '0;
+        u_own_idx_q <= '0;
         written_q <= '0;
         done_o <= count_i == '0;
         xread_q <= '0;
@@ -551,7 +609,11 @@ module rheo_sweep_lane #(
     if (!rst_ni) begin
     end else begin
       assert (!(q_push && q_cnt_q == (QAW+1)'(QDepth))) else $error("rheo_sweep_lane: MPM queue overflow");
-      assert (!(own_end && q_cnt_q == '0)) else $error("rheo_sweep_lane: MPM queue empty at a particle's end");
+      assert (!(m3_q && q_cnt_q == '0)) else $error("rheo_sweep_lane: MPM queue empty at a particle's MPM");
+      assert (!(q_push && qx_pend_q && !q_write))
+        else $error("rheo_sweep_lane: an x/p entry still waiting for port A");
+      assert (!(ghost_rd && (m3_q || qx_pend_q)))
+        else $error("rheo_sweep_lane: the queue in port A during the cross sweep");
       assert (!(mpm_valid && wb_q && start_rd)) else $error("rheo_sweep_lane: two MPM results for port B");
       assert (!starved) else $error("rheo_sweep_lane: the stream starved (prefetch behind)");
     end

@@ -33,9 +33,10 @@ module rheo_sweep_tables #(
   output logic [Lanes*CoefW-1:0] minv_o       // its 1/m, one clock later
 );
   logic [OffW-1:0] offset_q [Offsets];
-  logic [W-1:0] len_col [Classes];
-  logic [MIdxW-1:0] mat_col [Classes];
-  logic [CoefW-1:0] minv_col [Masses];
+  // Small tables: LUT RAM (a block RAM each would spend what the lanes' memories need).
+  (* ram_style = "distributed" *) logic [W-1:0] len_col [Classes];
+  (* ram_style = "distributed" *) logic [MIdxW-1:0] mat_col [Classes];
+  (* ram_style = "distributed" *) logic [CoefW-1:0] minv_col [Masses];
   logic we_offset, we_len, we_mat, we_minv;
   assign we_offset = host_we_i && region_i == RegionW'(rheo_consts_pkg::RegionSweepOffset) &&
                      index_i < IdxCountW'(Offsets);

@@ -59,6 +59,11 @@ module rheo_tem #(
   parameter int MaxwellArms = 0,  // parallel Maxwell arms, 0..rheo_consts_pkg::MaxArms
   parameter int SeriesDamper = 0, // force-dependent series damper (1) or not (0)
   parameter int StrainHardening = 0,  // strain hardening (1) or not (0)
+  // 1: coef_i and mat_flags_i arrive LateCoefClocks after their edge's valid_i, when the
+  // coefficient products need them, instead of with it (the sweep core looks its material
+  // up late and saves the TEM's coefficient delay lines: 6 x 24 bits x 29 clocks of LUT
+  // RAM). The three-element edge only (no arms, damper or hardening).
+  parameter int LateCoef = 0,
   localparam int NumBaseCoef = rheo_consts_pkg::MaterialCoefs,
   localparam int NumDamperCoef = (SeriesDamper != 0) ? rheo_consts_pkg::DamperCoefs : 0,
   localparam int NumHardCoef = (StrainHardening != 0) ? rheo_consts_pkg::HardeningCoefs : 0,
@@ -105,6 +110,9 @@ module rheo_tem #(
   // is computed at stages 30-32 and added to the arms' force at 33 (a lead that waits HD - 1
   // clocks), so T's sum has four terms rather than five.
   localparam bit PreLead = (SeriesDamper != 0) && (HD > 0);
+  // With LateCoef: coef_i and mat_flags_i come this many clocks after valid_i (coef29 is
+  // registered from coef_i one clock later, as the delay line's output would be).
+  localparam int LateCoefClocks = rheo_consts_pkg::TemLateCoefClocks;
   localparam int EW = 6;  // normalisation exponents (< W - B + 2)
   localparam int CAlpha = 0, CBeta = 1, CKt = 2, CCt = 3, CAmin = 4, CAmax = 5;
   // Arm j's coefficients: CGamma + 2 j, CK2t + 2 j; the damper's ka: CKa; hardening's hk,
@@ -129,6 +137,10 @@ module rheo_tem #(
   end
   if (StrainHardening != 0 && SeriesDamper == 0 && MaxwellArms != 0) begin : g_hard_check
     $error("rheo_tem: strain hardening with arms needs the damper (its ka is the arms' lead)");
+  end
+  if (LateCoef != 0 && (MaxwellArms != 0 || SeriesDamper != 0 || StrainHardening != 0))
+  begin : g_late_check
+    $error("rheo_tem: late coefficients are for the three-element edge only");
   end
   if (MaxwellArms < 0 || MaxwellArms > rheo_consts_pkg::MaxArms) begin : g_arms_check
     $error("rheo_tem: MaxwellArms must be 0..rheo_consts_pkg::MaxArms");
@@ -187,11 +199,17 @@ module rheo_tem #(
   rheo_delay #(.W(IdxW), .N(20)) u_idx_d1 (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(idx0_q), .q_o(idx20));
   rheo_delay #(.W(IdxW), .N(Last - 20)) u_idx_d2 (
     .clk_i(clk_i), .rst_ni(rst_ni), .d_i(idx20), .q_o(idx_out));
-  logic [1:0] mflags17;
-  rheo_delay #(.W(2), .N(17)) u_mflags_d1 (
-    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags0_q), .q_o(mflags17));
-  rheo_delay #(.W(2), .N(18 + HD)) u_mflags_d2 (
-    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags17), .q_o(mflags35));
+  if (LateCoef != 0) begin : g_mflags_late
+    // registered LateCoefClocks after the edge: the clamp at stage 35 needs them 6 later
+    rheo_delay #(.W(2), .N(35 - LateCoefClocks)) u_mflags_d (
+      .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags0_q), .q_o(mflags35));
+  end else begin : g_mflags
+    logic [1:0] mflags17;
+    rheo_delay #(.W(2), .N(17)) u_mflags_d1 (
+      .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags0_q), .q_o(mflags17));
+    rheo_delay #(.W(2), .N(18 + HD)) u_mflags_d2 (
+      .clk_i(clk_i), .rst_ni(rst_ni), .d_i(mflags17), .q_o(mflags35));
+  end
 
   // ---- stage 1: differences ----
   logic signed [W:0] r_w [3], dp_w [3], ds_w;
@@ -379,7 +397,11 @@ module rheo_tem #(
     assign clip_damper29 = 1'b0;
     assign clip_hard29 = 1'b0;
     for (genvar c = 0; c < NumBaseCoef; c++) begin : g_coef_d
-      rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
+      if (LateCoef != 0) begin : g_late
+        assign coef29[c] = coef0_q[c];  // registered LateCoefClocks after the edge
+      end else begin : g_delay
+        rheo_delay #(.W(CoefW), .N(29)) u_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(coef0_q[c]), .q_o(coef29[c]));
+      end
     end
   end
   // the operands wait for the coefficients (HD clocks with hardening)

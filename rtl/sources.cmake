@@ -38,6 +38,7 @@ set(RHEO_RTL_SWEEP_FILES
   rheo_mpm.sv
   rheo_ram_sdp.sv
   rheo_ram_tdp.sv
+  rheo_ram_tdp2.sv
   rheo_stream_checker.sv
   rheo_core_mem_mat.sv
   rheo_core_plate_acc.sv

@@ -14,6 +14,7 @@
 
 #include "hls/edge_element.hpp"
 #include "hls/fixed_format.hpp"
+#include "hls/sweep_format.hpp"
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/output/json_text.hpp"
@@ -21,6 +22,7 @@
 #include "host/synth/delay_model.hpp"
 #include "host/synth/performance_model.hpp"
 #include "host/synth/rtl_sources.hpp"
+#include "host/synth/sweep_performance.hpp"
 #include "host/synth/yosys_runner.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
@@ -63,7 +65,9 @@ struct Options {
   int lanes = hls::kDefaultLanes;
   OutputOptions output;
   bool quiet = false;
-  std::vector<std::string> designs{"tem", "mpm", "core"};
+  std::vector<std::string> designs{"tem", "mpm", "core", "sweep"};
+  // The sweep core's build (rtl/rheo_sweep_core.sv): lanes, slab depth, ghost depth, window.
+  std::vector<int> sweep_build{5, 1024, 256, 512};
   std::string core_top = "rheo_core";
   synth::Capacity core_capacity{128, 2048};
   bool time_reference = true;
@@ -200,7 +204,7 @@ std::string design_names() {
     if (!e.volume_preservation) names += tem_label(e) + ", ";
   names += "mpm";
   for (const hls::EdgeElement& e : hls::kEdgeElements) names += ", " + core_label(e);
-  return names;
+  return names + ", sweep";
 }
 
 // What each edge element adds to the baseline: every synthesised TEM or core design of an
@@ -244,7 +248,92 @@ json feature_costs(const std::map<std::string, synth::SynthResult>& results) {
   return rows;
 }
 
+// The sweep core on the chip (host/synth/sweep_performance.hpp): the synthesised build
+// against the device and the board, then block5 and block15 on it. A scenario is feasible
+// only when the build fits and its model fits the build; otherwise the section says why
+// and its time is not offered as a result.
+template <class Warn>
+json sweep_core_section(const Resources& built, const synth::SweepBuild& build, double clock_mhz,
+                        double fast_clock, double slow_clock, double peak_edges_per_s,
+                        const Warn& warn) {
+  const synth::Device device;
+  const synth::ZbtPart sram;
+  const synth::Package package;
+  const synth::SweepFit fit = synth::sweep_fit(built, clock_mhz, build, device, sram, package);
+  json section = {
+      {"build", build.params()},
+      {"resources", resources_json(built)},
+      {"fits_xc2v6000", fit.fits()},
+      {"problems", fit.problems},
+      {"sram",
+       {{"part", sram.name},
+        {"devices", build.lanes * sram.devices_per_lane},
+        {"latency_clocks", sram.latency_clocks},
+        {"max_mhz", sram.max_mhz},
+        {"source", sram.source}}},
+      {"pins", {{"used", fit.pins}, {"package", package.name}, {"user_io", package.user_io},
+                {"source", package.source}}},
+      {"cycle_formula",
+       "max over lanes of (start delay + slots) + " + std::to_string(hls::kSweepDrainCycles) +
+           "; slots = max(1, cross edges) per ghost particle + max(2, own edges) per own "
+           "particle (hls::sweep_cycles; the RTL counts them in status word 2)"}};
+  std::cout << "sweep core (" << build.lanes << " lanes, slabs of " << build.slab_depth
+            << ", ghosts of " << build.ghost_depth << "): RAMB16 " << built.ramb16 << "/"
+            << device.ramb16 << ", MULT18X18 " << built.mult18 << "/" << device.mult18
+            << ", slices ~" << fit.utilisation.slices << "/" << device.slices << ", pins "
+            << fit.pins << "/" << package.user_io << " (" << package.name << "), "
+            << build.lanes * sram.devices_per_lane << " x IDT71V3556 (" << sram.max_mhz
+            << " MHz): " << (fit.fits() ? "fits" : "DOES NOT FIT") << "\n";
+  for (const std::string& p : fit.problems) warn("the sweep core build does not fit: " + p);
+  json rows = json::array();
+  for (const std::string name : {"block5", "block15"}) {
+    const synth::SweepScenario s =
+        synth::sweep_scenario(name, build, clock_mhz, fast_clock, slow_clock, peak_edges_per_s);
+    const bool feasible = fit.fits() && s.fits_build;
+    json row = {{"scenario", name}, {"particles", s.particles}, {"edges", s.edges},
+                {"fits_build", s.fits_build}, {"feasible_on_one_xc2v6000", feasible}};
+    if (!s.fits_build) {
+      row["refused_because"] = s.refusal;
+      std::cout << "perf: " << name << " on the sweep core: NOT feasible: " << s.refusal << "\n";
+      warn(name + " does not fit the sweep core build: " + s.refusal);
+      rows.push_back(row);
+      continue;
+    }
+    row.update({{"lanes_used", s.lanes_used},
+                {"slabs", s.lanes},
+                {"cycles_per_step", s.cycles_per_step},
+                {"estimated_us_per_step", s.us_per_step},
+                {"estimated_us_per_step_range", {s.us_fast, s.us_slow}},
+                {"edge_updates_per_s", s.edge_updates_per_s},
+                {"fraction_of_multiplier_peak",
+                 peak_edges_per_s > 0 ? json(s.fraction_of_multiplier_peak) : json(nullptr)}});
+    if (name == std::string(kPaperFpgaModel))
+      row["speedup_vs_paper_fpga"] = kPaperFpgaStepMs * 1e3 / s.us_per_step;
+    std::cout << "perf: " << name << " on the sweep core: " << (feasible ? "" : "NOT feasible, ")
+              << "L=" << s.lanes_used << " cycles=" << s.cycles_per_step << " -> "
+              << std::setprecision(3) << s.us_per_step << " us/step (" << s.us_fast << "-"
+              << s.us_slow << " over the delay corners)";
+    if (peak_edges_per_s > 0)
+      std::cout << ", " << std::setprecision(3) << 100.0 * s.fraction_of_multiplier_peak
+                << " % of the multiplier peak";
+    if (row.contains("speedup_vs_paper_fpga"))
+      std::cout << "; the paper's FPGA on the same model: " << kPaperFpgaStepMs * 1e3 << " us ("
+                << std::setprecision(3) << row["speedup_vs_paper_fpga"].get<double>() << "x)";
+    std::cout << "\n";
+    rows.push_back(row);
+  }
+  section["scenarios"] = rows;
+  return section;
+}
+
 void run(const Options& opt) {
+  if (opt.sweep_build.size() != 4)
+    throw Error("synth: --sweep-build takes four numbers: lanes, slab depth, ghost depth, window");
+  synth::SweepBuild sweep_build;
+  sweep_build.lanes = opt.sweep_build[0];
+  sweep_build.slab_depth = opt.sweep_build[1];
+  sweep_build.ghost_depth = opt.sweep_build[2];
+  sweep_build.window = opt.sweep_build[3];
   output::StagedDirectory staged(opt.output.out, opt.output.force);
   const fs::path out = staged.path();
   const synth::YosysSetup setup = synth::default_setup();
@@ -274,6 +363,10 @@ void run(const Options& opt) {
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
       spec.sources = synth::rtl_sources::kMpmFiles;
+    } else if (label == "sweep") {
+      spec.top = "rheo_sweep_core";
+      spec.sources = synth::rtl_sources::kSweepFiles;
+      spec.params = sweep_build.params();
     } else if (const hls::EdgeElement* core = core_element(label)) {
       spec.top = opt.core_top;
       spec.sources = synth::rtl_sources::kCoreFiles;
@@ -551,6 +644,11 @@ void run(const Options& opt) {
                {"cycles_per_step", cycles}, {"estimated_us_per_step", cycles / clock_mhz}};
   }
   perf["largest_cube_with_state_on_chip"] = largest;
+  if (results.count("sweep"))
+    perf["sweep_core"] = sweep_core_section(results.at("sweep").resources, sweep_build, clock_mhz,
+                                            fast_clock, slow_clock, peak_edges_per_s, warn);
+  else
+    perf["sweep_core"] = nullptr;
   if (!largest.is_null()) {
     std::cout << "perf: largest cube with its state on chip at L=" << lanes_used << ": "
               << largest["lattice"].get<std::string>() << " (" << largest["edges"].get<int>()
@@ -613,6 +711,12 @@ void register_synth(CLI::App& app) {
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--core-top", opt->core_top, "top module of the core")->capture_default_str();
+  cmd->add_option("--sweep-build", opt->sweep_build,
+                  "the sweep core's build: lanes, slab depth, ghost depth, window (default "
+                  "5,1024,256,512: block15 on one XC2V6000, docs/sweep_core.md)")
+      ->delimiter(',')
+      ->expected(4)
+      ->capture_default_str();
   cmd->add_flag("!--no-reference-timing", opt->time_reference,
                 "skip timing the double reference model");
   cmd->callback([opt] { run(*opt); });

@@ -194,6 +194,11 @@ std::string write_trace_gtkw(const CosimResult& r, const CosimOptions& opt,
                 " lies outside the times of " + opt.trace_fst);
   driver::GtkwOptions g;
   g.lanes = r.lanes;
+  if (r.dut_description.value("core", "") == "sweep") {
+    // The sweep core sits in its testbench with the SRAM models (rtl/rheo_sweep_tb.sv).
+    g.sweep = true;
+    g.core_scope = "rheo_core.rheo_sweep_tb.rheo_core";
+  }
   const hls::EdgeElement* element = hls::find_edge_element(r.element);
   g.maxwell_arms = element ? element->maxwell_arms : 0;
   // The RTL implements the hardware format (rtl/rheo_consts_pkg.sv is generated from it).

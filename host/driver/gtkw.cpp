@@ -125,6 +125,71 @@ const std::vector<Group> kTraceGroups = {
      }},
 };
 
+// The same for the sweep core (rtl/rheo_sweep_core.sv): the stream, the controller
+// (rtl/rheo_sweep_ctrl.sv) and, per lane, its slot stream (rtl/rheo_sweep_enum.sv), TEM and
+// MPM (inside g_lane[L].u_lane, rtl/rheo_sweep_lane.sv).
+const std::vector<Group> kSweepTraceGroups = {
+    kTraceGroups[0],
+    kTraceGroups[1],
+    {"Control",
+     false,
+     {
+         {"u_ctrl.state_q", Show::kEnum, Expect::kAny, "state_q"},
+         {"busy_o", Show::kBit, Expect::kAny, "busy_o"},
+         {"u_ctrl.step_count_q", Show::kUnsigned, Expect::kAny, "step_count_q"},
+         {"u_ctrl.cycle_count_q", Show::kUnsigned, Expect::kAny, "cycle_count_q"},
+         {"u_ctrl.count_q", Show::kUnsigned, Expect::kAny, "count_q"},
+         {"u_ctrl.cur_dev_q", Show::kBit, Expect::kAny, "cur_dev_q (SRAM device read)"},
+         {"u_ctrl.plate_z_q", Show::kPosition, Expect::kWord, "plate_z_q"},
+         {"done", Show::kHex, Expect::kAny, "lanes done"},
+         {"u_plate_acc.plate_in_q", Show::kForce, Expect::kWide, "plate_in_q"},
+         {"u_plate_acc.plate_acc_q", Show::kForce, Expect::kWide, "plate_acc_q"},
+         {"u_ctrl.status_q", Show::kHex, Expect::kAny, "status_q"},
+     }},
+    {"Lane {L} stream",
+     true,
+     {
+         {"g_lane[{L}].u_lane.u_enum.slot_o", Show::kBit, Expect::kAny, "L{L} slot"},
+         {"g_lane[{L}].u_lane.u_enum.edge_o", Show::kBit, Expect::kAny, "L{L} edge"},
+         {"g_lane[{L}].u_lane.u_enum.first_o", Show::kBit, Expect::kAny, "L{L} first"},
+         {"g_lane[{L}].u_lane.u_enum.last_o", Show::kBit, Expect::kAny, "L{L} last"},
+         {"g_lane[{L}].u_lane.u_enum.cross_o", Show::kBit, Expect::kAny, "L{L} cross"},
+         {"g_lane[{L}].u_lane.u_enum.idx_o", Show::kUnsigned, Expect::kAny, "L{L} particle"},
+         {"g_lane[{L}].u_lane.u_enum.k_o", Show::kUnsigned, Expect::kAny, "L{L} offset k"},
+         {"g_lane[{L}].u_lane.u_enum.n_o", Show::kUnsigned, Expect::kAny, "L{L} SRAM word n"},
+     }},
+    {"Lane {L} TEM",
+     true,
+     {
+         {"g_lane[{L}].u_lane.u_tem.valid_i", Show::kBit, Expect::kAny, "L{L} TEM valid_i"},
+         {"g_lane[{L}].u_lane.u_tem.xs_i", Show::kPosition, Expect::kVector3, "L{L} TEM xs_i"},
+         {"g_lane[{L}].u_lane.u_tem.xe_i", Show::kPosition, Expect::kVector3, "L{L} TEM xe_i"},
+         {"g_lane[{L}].u_lane.u_tem.d_i", Show::kPosition, Expect::kWord, "L{L} TEM d_i"},
+         {"g_lane[{L}].u_lane.u_tem.len_i", Show::kPosition, Expect::kWord, "L{L} TEM len_i"},
+         {"g_lane[{L}].u_lane.u_tem.valid_o", Show::kBit, Expect::kAny, "L{L} TEM valid_o"},
+         {"g_lane[{L}].u_lane.u_tem.f_o", Show::kForce, Expect::kVector3, "L{L} TEM f_o"},
+         {"g_lane[{L}].u_lane.u_tem.d_o", Show::kPosition, Expect::kWord, "L{L} TEM d_o"},
+         {"g_lane[{L}].u_lane.u_tem.sat_o", Show::kBit, Expect::kAny, "L{L} TEM sat_o"},
+         {"g_lane[{L}].u_lane.u_tem.degenerate_o", Show::kBit, Expect::kAny,
+          "L{L} TEM degenerate_o"},
+     }},
+    {"Lane {L} MPM",
+     true,
+     {
+         {"g_lane[{L}].u_lane.u_mpm.valid_i", Show::kBit, Expect::kAny, "L{L} MPM valid_i"},
+         {"g_lane[{L}].u_lane.u_mpm.idx_i", Show::kUnsigned, Expect::kAny, "L{L} MPM idx_i"},
+         {"g_lane[{L}].u_lane.u_mpm.f_i", Show::kForce, Expect::kVector3, "L{L} MPM f_i"},
+         {"g_lane[{L}].u_lane.u_mpm.valid_o", Show::kBit, Expect::kAny, "L{L} MPM valid_o"},
+         {"g_lane[{L}].u_lane.u_mpm.idx_o", Show::kUnsigned, Expect::kAny, "L{L} MPM idx_o"},
+         {"g_lane[{L}].u_lane.u_mpm.x_o", Show::kPosition, Expect::kVector3, "L{L} MPM x_o"},
+         {"g_lane[{L}].u_lane.u_mpm.p_o", Show::kVelocity, Expect::kVector3, "L{L} MPM p_o"},
+         {"g_lane[{L}].u_lane.u_mpm.plate_f_o", Show::kForce, Expect::kWord,
+          "L{L} MPM plate_f_o"},
+         {"g_lane[{L}].u_lane.u_mpm.sat_o", Show::kBit, Expect::kAny, "L{L} MPM sat_o"},
+         {"g_lane[{L}].u_lane.done_o", Show::kBit, Expect::kAny, "L{L} done"},
+     }},
+};
+
 // GTKWave trace flags (enum TraceEntFlagBits in GTKWave's analyzer.h: bit positions).
 constexpr std::uint32_t kTrHex = 1u << 1;
 constexpr std::uint32_t kTrDec = 1u << 2;
@@ -380,7 +445,7 @@ std::string make_gtkw(const std::vector<FstSignal>& signals, const GtkwOptions& 
   const int w = o.format.width;
   std::vector<std::string> problems;
   Writer out(o);
-  for (const Group& g : kTraceGroups) {
+  for (const Group& g : o.sweep ? kSweepTraceGroups : kTraceGroups) {
     const int copies = g.per_lane ? o.lanes : 1;
     for (int lane = 0; lane < copies; ++lane) {
       const std::string L = std::to_string(lane);
@@ -467,7 +532,8 @@ std::string make_gtkw(const std::vector<FstSignal>& signals, const GtkwOptions& 
   const double zoom = gtkw_zoom(double(span + 2 * margin), wave_pixels);
 
   std::ostringstream head;
-  head << "[*] GTKWave save file of an FST of the rheo_core RTL, written by `rheo cosim --trace`\n"
+  head << "[*] GTKWave save file of an FST of the " << (o.sweep ? "sweep core's" : "rheo_core")
+       << " RTL, written by `rheo cosim --trace`\n"
        << "[*] from the signals in that FST (a signal it lacks is an error, not a dropped trace).\n"
        << "[*] Fixed-point words through rheo-gtkw-filter: positions and lengths in mm, "
           "displacements per step as velocities in m/s, forces in N\n"

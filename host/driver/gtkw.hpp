@@ -60,7 +60,8 @@ struct TracedSteps {
 };
 
 struct GtkwOptions {
-  std::string core_scope = "rheo_core.rheo_core";  // the rheo_core instance in the FST
+  std::string core_scope = "rheo_core.rheo_core";  // the core's instance in the FST
+  bool sweep = false;  // the sweep core (rtl/rheo_sweep_core.sv in rtl/rheo_sweep_tb.sv)
   int lanes = 1;
   int maxwell_arms = 0;            // Maxwell arms of the core's edge element: their m words
   FormatDesc format;               // binary points of the state words (the RTL's: HardwareFormat)

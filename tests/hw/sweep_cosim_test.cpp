@@ -5,7 +5,11 @@
 // a load that breaks the sweep's order is flagged, not computed.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "host/backend/backend.hpp"
 #include "host/cosim/cosim.hpp"
@@ -72,6 +76,26 @@ TEST(SweepCosim, VoigtLengthsReadBackEqualTheGoldenCores) {
   const State a = dut->state(), b = golden->state();
   ASSERT_EQ(a.d.size(), b.d.size());
   for (std::size_t k = 0; k < a.d.size(); ++k) EXPECT_EQ(a.d[k], b.d[k]) << "edge " << k;
+}
+
+// A failing run is investigated in a waveform: the sweep core's FST and a GTKWave save file
+// whose every trace is a signal of that FST (make_gtkw refuses a missing one).
+TEST(SweepCosim, ATracedRunWritesAWaveformAndASaveFileForIt) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("rheo_sweep_trace_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  cosim::CosimOptions opt;
+  opt.steps = 2;
+  opt.dut = "sweep";
+  opt.trace_fst = (dir / "w.fst").string();
+  const cosim::CosimResult r = cosim::run_cosim(load_scenario("block5"), opt);
+  EXPECT_EQ(r.mismatches, 0);
+  const std::string gtkw = cosim::write_trace_gtkw(r, opt, "/usr/bin/true");
+  std::ifstream in(gtkw);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("L3 TEM f_o x [N]"), std::string::npos);
+  EXPECT_NE(text.find("L0 SRAM word n"), std::string::npos);
+  fs::remove_all(dir);
 }
 
 // A lane whose ghost copy misses a particle with an edge into it: the core cannot sum that
