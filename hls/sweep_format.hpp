@@ -76,20 +76,21 @@ inline constexpr int kSweepOwnMinSlots = 2;
 //   max over lanes of (start delay + slots) + kSweepDrainCycles
 // A step's clocks (rtl/rheo_sweep_lane.sv has them stage by stage):
 //   0                      the plate word is taken
-//   1..3                   the first static words are read into the lanes' queues
+//   1..4                   the first static words are read, masked and counted into the
+//                          lanes' queues
 //   kSweepLeadClocks + t   slot t (t = 0 .. delay + slots - 1) in the slot registers
 //   then, for the last slot: its SRAM word (output register, the device's latency, input
 //   register), the operand registers with L from the class table (1), the TEM (its
 //   material's coefficients follow kTemLateCoefClocks later, inside its latency), the
-//   start sum complete (1), the three sums added and saturated (2), the MPM's input
-//   register (1), the MPM, the lane's done register (1), the plate accumulator (1), the
-//   word offered (1).
+//   start sum complete (1), the three sums added in two steps and saturated (3), the MPM's
+//   input register (1), the MPM, the lane's done register (1), the plate accumulator (1),
+//   the word offered (1).
 inline constexpr int kSweepSramClocks = 1 + kZbtLatency + 1;
 // The sweep core's TEM takes its coefficients when its products need them
 // (rtl/rheo_tem.sv LateCoef): this many clocks after the edge's operands.
 inline constexpr int kTemLateCoefClocks = 29;
-inline constexpr int kSweepLeadClocks = 4;
+inline constexpr int kSweepLeadClocks = 5;
 inline constexpr int kSweepDrainCycles =
-    kSweepLeadClocks - 1 + kSweepSramClocks + 1 + kTemLatency + 4 + kMpmLatency + 3;
+    kSweepLeadClocks - 1 + kSweepSramClocks + 1 + kTemLatency + 5 + kMpmLatency + 3;
 
 }  // namespace rheo::hls

@@ -118,6 +118,7 @@ module rheo_mpm #(
   logic [IdxW-1:0] idx_q [Last+1];
   logic [1:0] flags_q [Last];              // stages 0..6
   logic signed [W-1:0] fz_q [Last];        // f.z (the plate force), stages 0..6
+  logic fz_pos_q;                          // stage 6: f.z > 0
   logic signed [W-1:0] x_q [6][3];         // old position, stages 0..5
   logic signed [W-1:0] x0_q [6][3];        // home position, stages 0..5
   logic signed [W-1:0] pold_q [4][3];      // old p, stages 0..3
@@ -242,7 +243,7 @@ module rheo_mpm #(
     // stage 7: plate and floor (fixed particles were settled at stage 6)
     hold = flags_q[6][1] && !flags_q[6][0] && plate_en_i && xn_q[2] > $signed(plate_z_i);
     stick = flags_q[6][1] && !flags_q[6][0] && plate_en_i && !hold && hold_en_i &&
-            was_held_q && fz_q[6] > 0;
+            was_held_q && fz_pos_q;
     on_floor = !flags_q[6][0] && !hold && !stick && floor_en_i && xn_q[2][W-1];
   end
 
@@ -271,6 +272,9 @@ module rheo_mpm #(
       flags_q[s] <= flags_q[s-1];
       fz_q[s] <= fz_q[s-1];
     end
+    // f.z > 0 for stage 7, compared a stage ahead (f.z only travels): stage 7 then holds
+    // one 32-bit compare (the plate's) before its selects, not two.
+    fz_pos_q <= fz_q[5] > 0;
     for (int s = 1; s < 6; s++) begin
       for (int i = 0; i < 3; i++) begin
         x_q[s][i] <= x_q[s-1][i];

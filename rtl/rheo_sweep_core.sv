@@ -211,18 +211,22 @@ module rheo_sweep_core #(
     .clk_i(clk_i), .start_i(go), .valid_i(plate_valid), .plate_f_i(plate_f), .acc_o(plate_acc));
 
   // ---------------------------------------------------------------- read-back
-  // The word of the entry the controller reads (memories read in the clock before).
+  // The word of the entry the controller reads (memories read in the clock before),
+  // registered once more: the lane and field multiplexer behind the block RAMs' outputs
+  // would otherwise sit in front of the controller's output register.
+  logic [W-1:0] read_sel;
+  always_ff @(posedge clk_i) read_word <= read_sel;
   always_comb begin
-    read_word = '0;
+    read_sel = '0;
     for (int j = 0; j < Lanes; j++) begin
       if (32'(lane_sel) == j) begin
         unique case (region)
-          RegionW'(rheo_consts_pkg::RegionParticleState): read_word = xp_rdata[j][field*W +: W];
-          RegionW'(rheo_consts_pkg::RegionSweepParticle): read_word = W'(stat_rdata[j]);
-          RegionW'(rheo_consts_pkg::RegionEdgeLength): read_word = zbt_rdata[j][W-1:0];
+          RegionW'(rheo_consts_pkg::RegionParticleState): read_sel = xp_rdata[j][field*W +: W];
+          RegionW'(rheo_consts_pkg::RegionSweepParticle): read_sel = W'(stat_rdata[j]);
+          RegionW'(rheo_consts_pkg::RegionEdgeLength): read_sel = zbt_rdata[j][W-1:0];
           RegionW'(rheo_consts_pkg::RegionSweepEdge):
-            read_word = field == '0 ? zbt_rdata[j][W-1:0] : W'(zbt_rdata[j][DW-1:W]);
-          default: read_word = '0;
+            read_sel = field == '0 ? zbt_rdata[j][W-1:0] : W'(zbt_rdata[j][DW-1:W]);
+          default: read_sel = '0;
         endcase
       end
     end

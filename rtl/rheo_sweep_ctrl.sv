@@ -151,17 +151,19 @@ module rheo_sweep_ctrl #(
   logic entry_done;
   assign entry_done = field_q == last_field_q;
 
-  // The lane and local address of a particle index: the last lane whose slab starts at or
-  // below it (empty lanes lie above every particle: their first is the particle count).
+  // The lane and local address of a particle index, in four clocks (a command's start
+  // only, so a short path beats a fast lookup): which lanes' slabs start at or below it
+  // (empty lanes are skipped), the last of them, the local address, and whether it lies in
+  // that slab.
+  logic [Lanes-1:0] above_q, above_d;
+  logic [IdxCountW-1:0] offset_q, offset_d;  // index - the found lane's first particle
+  logic locate_done;
   logic [LW-1:0] find_lane;
-  logic [IdxCountW-1:0] find_local;
-  logic find_ok;
   always_comb begin
+    for (int j = 0; j < Lanes; j++) above_d[j] = index_q >= first_q[j] && lcount_q[j] != '0;
     find_lane = '0;
     for (int j = 1; j < Lanes; j++)
-      if (index_q >= first_q[j] && lcount_q[j] != '0) find_lane = LW'(j);
-    find_local = index_q - first_q[find_lane];
-    find_ok = index_q >= first_q[find_lane] && find_local < IdxCountW'(lcount_q[find_lane]);
+      if (above_q[j]) find_lane = LW'(j);
   end
   // The next particle entry: local + 1, or the next lane's first.
   logic [LW-1:0] next_lane;
@@ -180,13 +182,21 @@ module rheo_sweep_ctrl #(
       end
     end
   end
-  // The lane above keeps a ghost copy of this slab's last ghost particles.
+  // The lane above keeps a ghost copy of this slab's last ghost particles: whether the
+  // current entry is one of them and its ghost address, registered from local_q (a state
+  // entry's write comes with its sixth word, local_q has not changed for five clocks).
   logic has_above;
   logic [SAW:0] ghost_from;
+  logic in_ghost_q;
+  logic [GAW-1:0] ghost_addr_q;
   always_comb begin
     has_above = 32'(lane_q) + 1 < Lanes;
     ghost_from = lcount_q[lane_q];
     if (has_above) ghost_from = lcount_q[lane_q] - (SAW+1)'(lghost_q[LW'(32'(lane_q) + 1)]);
+  end
+  always_ff @(posedge clk_i) begin
+    in_ghost_q <= has_above && lghost_q[LW'(32'(lane_q) + 1)] != '0 && local_q >= ghost_from;
+    ghost_addr_q <= GAW'(local_q - ghost_from);
   end
 
   assign host_we_o = (state_q == StWData) && in_fire && !particle_region && !slot_region &&
@@ -202,9 +212,8 @@ module rheo_sweep_ctrl #(
   assign xp_we_o = data_word && in_slab_q &&
                    region_q == RegionW'(rheo_consts_pkg::RegionParticleState);
   assign xp_wdata_o = {s_axis_tdata, xp_buf_q};
-  assign ghost_we_o = xp_we_o && has_above && lghost_q[LW'(32'(lane_q) + 1)] != '0 &&
-                      local_q >= ghost_from;
-  assign ghost_addr_o = GAW'(local_q - ghost_from);
+  assign ghost_we_o = xp_we_o && in_ghost_q;
+  assign ghost_addr_o = ghost_addr_q;
   assign stat_we_o = data_word && in_slab_q &&
                      region_q == RegionW'(rheo_consts_pkg::RegionSweepParticle);
   // SRAM: a SweepEdge entry {d, tag} is one word; reads of both slot regions.
@@ -251,9 +260,20 @@ module rheo_sweep_ctrl #(
       default: status_word = 32'(Lanes) | 32'(rheo_consts_pkg::StatusLanesSweep);
     endcase
   end
-  // A SweepLane entry's lane (its index; beyond the lanes: a bad command, lane 0 read).
+  // A SweepLane entry's lane (its index; beyond the lanes: a bad command, lane 0 read),
+  // registered with the index so that no 24-bit compare sits before the status register.
   logic [LW-1:0] entry_lane;
-  assign entry_lane = index_q < IdxCountW'(Lanes) ? LW'(index_q) : '0;
+  logic entry_lane_ok;
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) begin
+      entry_lane <= '0;
+      entry_lane_ok <= 1'b1;
+    end else begin
+      // A clock behind index_q: a lane entry is committed with its fourth word.
+      entry_lane_ok <= index_q < IdxCountW'(Lanes);
+      entry_lane <= index_q < IdxCountW'(Lanes) ? LW'(index_q) : '0;
+    end
+  end
   // Words the controller itself holds: the lane registers.
   logic [W-1:0] lane_word;
   always_comb begin
@@ -267,6 +287,7 @@ module rheo_sweep_ctrl #(
 
   always_comb begin
     state_d = state_q;
+    locate_done = 1'b0;
     reading_d = reading_q;
     region_d = region_q;
     last_field_d = last_field_q;
@@ -276,6 +297,7 @@ module rheo_sweep_ctrl #(
     lane_d = lane_q;
     local_d = local_q;
     in_slab_d = in_slab_q;
+    offset_d = offset_q;
     wait_d = wait_q;
     clear_d = clear_q;
     out_data_d = out_data_q;
@@ -333,23 +355,36 @@ module rheo_sweep_ctrl #(
       StWStart, StRStart: begin
         if (in_fire) begin
           index_d = word_index;
+          wait_d = '0;
           state_d = (count_q == 0) ? StIdle : (reading_q ? StRLocate : StWLocate);
         end
       end
       StWLocate, StRLocate: begin
-        // Particle entries: their lane and local address; slot entries: lane and n.
+        // Particle entries: their lane and local address (wait_q counts the four clocks);
+        // slot entries: lane and n.
+        locate_done = 1'b1;
         if (particle_region) begin
-          lane_d = find_lane;
-          local_d = (SAW+1)'(find_local);
-          in_slab_d = find_ok;
+          locate_done = wait_q == WaitW'(3);
+          wait_d = wait_q + 1'b1;
+          unique case (wait_q)
+            WaitW'(0): ;  // above_q is registered from index_q
+            WaitW'(1): lane_d = find_lane;
+            WaitW'(2): offset_d = index_q - first_q[lane_q];
+            default: begin
+              local_d = (SAW+1)'(offset_q);
+              in_slab_d = above_q[lane_q] && offset_q < IdxCountW'(lcount_q[lane_q]);
+            end
+          endcase
         end else if (slot_region) begin
           in_slab_d = (index_q >> rheo_consts_pkg::SweepSlotLaneShift) < IdxCountW'(Lanes);
           lane_d = in_slab_d ? LW'(index_q >> rheo_consts_pkg::SweepSlotLaneShift) : '0;
         end else begin
           in_slab_d = 1'b1;
         end
-        wait_d = WaitW'(ReadWait);
-        state_d = reading_q ? StRFetch : StWData;
+        if (locate_done) begin
+          wait_d = WaitW'(ReadWait);
+          state_d = reading_q ? StRFetch : StWData;
+        end
       end
       StWData: begin
         if (in_fire) begin
@@ -371,29 +406,25 @@ module rheo_sweep_ctrl #(
               default: status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
             endcase
           end
-          if (region_q == RegionW'(rheo_consts_pkg::RegionSweepLane)) begin
-            if (index_q >= IdxCountW'(Lanes)) begin
+          // A lane entry's four words are gathered and committed with the last (the
+          // checks then compare registers, not the input word).
+          if (region_q == RegionW'(rheo_consts_pkg::RegionSweepLane) && entry_done) begin
+            if (!entry_lane_ok || xp_buf_q[1*W +: IdxCountW] > IdxCountW'(SlabDepth) ||
+                xp_buf_q[2*W +: IdxCountW] > IdxCountW'(GhostDepth) ||
+                (entry_lane == '0 && xp_buf_q[2*W +: IdxCountW] != '0)) begin
               status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
             end else begin
-              unique case (field_q)
-                FieldW'(rheo_consts_pkg::SweepLaneFirst): first_d[entry_lane] = word_index;
-                FieldW'(rheo_consts_pkg::SweepLaneCount): begin
-                  if (word_index > IdxCountW'(SlabDepth))
-                    status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
-                  else lcount_d[entry_lane] = (SAW+1)'(word_index);
-                end
-                FieldW'(rheo_consts_pkg::SweepLaneGhost): begin
-                  if (word_index > IdxCountW'(GhostDepth) || (entry_lane == '0 && word_index != '0))
-                    status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
-                  else lghost_d[entry_lane] = (GAW+1)'(word_index);
-                end
-                default: ldelay_d[entry_lane] = s_axis_tdata[DelayW-1:0];
-              endcase
+              first_d[entry_lane] = xp_buf_q[0*W +: IdxCountW];
+              lcount_d[entry_lane] = (SAW+1)'(xp_buf_q[1*W +: IdxCountW]);
+              lghost_d[entry_lane] = (GAW+1)'(xp_buf_q[2*W +: IdxCountW]);
+              ldelay_d[entry_lane] = s_axis_tdata[DelayW-1:0];
             end
           end
           if ((particle_region || slot_region) && entry_done && !in_slab_q)
             status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
-          if (!entry_done) xp_buf_d[field_q*W +: W] = s_axis_tdata;
+          // One register per word (a decoder, not a shifter, in front of them).
+          for (int f = 0; f < 5; f++)
+            if (!entry_done && field_q == FieldW'(f)) xp_buf_d[f*W +: W] = s_axis_tdata;
           if (entry_done) begin
             field_d = '0;
             index_d = index_q + IdxCountW'(1);
@@ -411,16 +442,16 @@ module rheo_sweep_ctrl #(
       end
       StRFetch: begin
         // Memory words arrive the next clock, SRAM words ReadWait clocks after the command
-        // (issued in the first fetch clock): StRLoad takes them in that clock.
-        if (!slot_region || wait_q == WaitW'(1)) state_d = StRLoad;
+        // (issued in the first fetch clock); the top registers the selected word once more
+        // (rheo_sweep_core's read-back), so StRLoad takes it a clock later.
+        if ((!slot_region && wait_q == WaitW'(ReadWait - 1)) || wait_q == '0) state_d = StRLoad;
         else wait_d = wait_q - 1'b1;
       end
       StRLoad: begin
         out_data_d = (region_q == RegionW'(rheo_consts_pkg::RegionSweepLane)) ? lane_word
                                                                                : read_word_i;
         if (((particle_region || slot_region) && !in_slab_q) ||
-            (region_q == RegionW'(rheo_consts_pkg::RegionSweepLane) &&
-             index_q >= IdxCountW'(Lanes))) begin
+            (region_q == RegionW'(rheo_consts_pkg::RegionSweepLane) && !entry_lane_ok)) begin
           out_data_d = '0;
           status_d = status_q | lane_flags_i | 32'(rheo_consts_pkg::StatusBadCommand);
         end
@@ -515,6 +546,8 @@ module rheo_sweep_ctrl #(
       lane_q <= '0;
       local_q <= '0;
       in_slab_q <= 1'b0;
+      above_q <= '0;
+      offset_q <= '0;
       wait_q <= '0;
       clear_q <= 1'b0;
       out_data_q <= '0;
@@ -549,6 +582,8 @@ module rheo_sweep_ctrl #(
       lane_q <= lane_d;
       local_q <= local_d;
       in_slab_q <= in_slab_d;
+      above_q <= above_d;
+      offset_q <= offset_d;
       wait_q <= wait_d;
       clear_q <= clear_d;
       out_data_q <= out_data_d;

@@ -13,7 +13,8 @@
 // takes max(1, cross edges) per ghost particle and max(2, own edges) per own particle.
 //
 // Timing: go_i in clock 0 (the plate word is taken); the static words are read from
-// clock 1 (two clocks to a prefetch queue entry); the lane waits delay_i clocks more and
+// clock 1 (three clocks to a prefetch queue entry: read, mask, count its edges); the lane
+// waits delay_i clocks more and
 // the first slot is in the slot registers in clock SweepLeadClocks + delay_i; then one slot
 // per clock, with no gap (the queue keeps ahead: an assertion checks it).
 // own_mask_o of a particle: has_cross_o says whether some of its edges leave the slab (they
@@ -79,17 +80,27 @@ module rheo_sweep_enum #(
   // {has_cross, has_in, plate, fixed, mass, mask, idx, cross}.
   localparam int ECross = 0, EIdx = 1, EMask = EIdx + SAW, EMass = EMask + Offsets;
   localparam int EFixed = EMass + MassW, EPlate = EFixed + 1, EHasIn = EPlate + 1;
-  localparam int EHasCross = EHasIn + 1, EntryW = EHasCross + 1;
+  localparam int EHasCross = EHasIn + 1, ENe = EHasCross + 1, NeW = KW + 1;
+  localparam int EntryW = ENe + NeW;  // ENe: the number of edges (ones of the mask)
   logic pf_active_q, pf_cross_q;
   logic [SAW-1:0] pf_idx_q;
   logic rd_q, rd_cross_q;
+  // The masked entry, registered before its edges are counted (one clock each).
+  logic m1_q;
+  logic [EntryW-1:0] m1_e_q;
   logic [SAW-1:0] rd_idx_q;
   logic [SAW:0] rd_lim_q;  // own: count - idx (ends stay below it); cross: ghost - idx
+  // The queue: its first entry in a register (head_q), the others in q_mem, so that the
+  // slot logic starts from registers.
   logic [EntryW-1:0] q_mem [QDepth];
   logic [QAW-1:0] q_wr_q, q_rd_q;
-  logic [QAW:0] q_cnt_q;
+  logic [QAW:0] q_cnt_q;   // entries in q_mem
+  logic [EntryW-1:0] head_q;
+  logic head_valid_q;
   logic issue, pop, pf_last;
-  assign issue = pf_active_q && (q_cnt_q + (QAW+1)'(rd_q) < (QAW+1)'(QDepth));
+  assign issue = pf_active_q &&
+                 (q_cnt_q + (QAW+1)'(head_valid_q) + (QAW+1)'(rd_q) + (QAW+1)'(m1_q) <
+                  (QAW+1)'(QDepth));
   assign pf_last = pf_cross_q ? ({1'b0, pf_idx_q} + 1'b1 == (SAW+1)'(ghost_i))
                               : ({1'b0, pf_idx_q} + 1'b1 == count_i);
   assign own_stat_addr_o = pf_idx_q;
@@ -114,6 +125,13 @@ module rheo_sweep_enum #(
     in_e[EPlate] = stat[rheo_consts_pkg::SweepStaticPlateBit];
     in_e[EHasIn] = stat[rheo_consts_pkg::SweepStaticHasInBit];
     in_e[EHasCross] = !rd_cross_q && ((stat[Offsets-1:0] & valid_off & ~reach) != '0);
+    in_e[ENe +: NeW] = '0;
+  end
+  // The queued entry: the masked one with its edges counted.
+  logic [EntryW-1:0] q_in;
+  always_comb begin
+    q_in = m1_e_q;
+    q_in[ENe +: NeW] = NeW'($countones(m1_e_q[EMask +: Offsets]));
   end
 
   // ---------------------------------------------------------------- slots
@@ -127,11 +145,12 @@ module rheo_sweep_enum #(
   logic waiting_q, running_q;
   logic [EntryW-1:0] head, e;
   logic [Offsets-1:0] m, m_next;
+  logic [NeW-1:0] rem, cur_rem_q;  // edges left of the particle (this slot's included)
   logic [CntW-1:0] cnt;
   logic [KW-1:0] k;
   logic have_head, take, slot, last;
-  assign head = q_mem[q_rd_q];
-  assign have_head = q_cnt_q != '0;
+  assign head = head_q;
+  assign have_head = head_valid_q;
   logic sweeping;
   assign sweeping = running_q || (waiting_q && wait_q == '0);
   always_comb begin
@@ -139,12 +158,14 @@ module rheo_sweep_enum #(
     slot = sweeping && (cur_q || have_head);
     e = cur_q ? cur_e_q : head;
     m = cur_q ? cur_mask_q : head[EMask +: Offsets];
+    rem = cur_q ? cur_rem_q : head[ENe +: NeW];
     cnt = cur_q ? cur_cnt_q : '0;
     m_next = m & (m - Offsets'(1));
     k = '0;
     for (int i = Offsets - 1; i >= 0; i--)
       if (m[i]) k = KW'(i);
-    last = (m_next == '0) &&
+    // From the counters, not the mask: the last slot is decided by small compares.
+    last = (rem <= NeW'(1)) &&
            ({1'b0, cnt} + 1'b1 >= (CntW+1)'(e[ECross] ? CrossMin : OwnMin));
   end
   assign pop = take;
@@ -155,12 +176,17 @@ module rheo_sweep_enum #(
       pf_cross_q <= 1'b0;
       pf_idx_q <= '0;
       rd_q <= 1'b0;
+      m1_q <= 1'b0;
+      m1_e_q <= '0;
+      cur_rem_q <= '0;
       rd_cross_q <= 1'b0;
       rd_idx_q <= '0;
       rd_lim_q <= '0;
       q_wr_q <= '0;
       q_rd_q <= '0;
       q_cnt_q <= '0;
+      head_q <= '0;
+      head_valid_q <= 1'b0;
       cur_q <= 1'b0;
       cur_e_q <= '0;
       cur_mask_q <= '0;
@@ -186,6 +212,8 @@ module rheo_sweep_enum #(
     end else begin
       // Prefetch.
       rd_q <= issue;
+      m1_q <= rd_q;
+      if (rd_q) m1_e_q <= in_e;
       if (issue) begin
         rd_cross_q <= pf_cross_q;
         rd_idx_q <= pf_idx_q;
@@ -200,12 +228,24 @@ module rheo_sweep_enum #(
           pf_idx_q <= pf_idx_q + 1'b1;
         end
       end
-      if (rd_q) begin
-        q_mem[q_wr_q] <= in_e;
+      // The head refills from q_mem, or straight from the read when q_mem is empty.
+      if (pop || !head_valid_q) begin
+        if (q_cnt_q != '0) begin
+          head_q <= q_mem[q_rd_q];
+          head_valid_q <= 1'b1;
+          q_rd_q <= q_rd_q + 1'b1;
+        end else begin
+          head_q <= q_in;
+          head_valid_q <= m1_q;
+        end
+      end
+      if (m1_q && !((pop || !head_valid_q) && q_cnt_q == '0)) begin
+        q_mem[q_wr_q] <= q_in;
         q_wr_q <= q_wr_q + 1'b1;
       end
-      if (pop) q_rd_q <= q_rd_q + 1'b1;
-      q_cnt_q <= q_cnt_q + (QAW+1)'(rd_q) - (QAW+1)'(pop);
+      q_cnt_q <= q_cnt_q +
+                 (QAW+1)'(m1_q && !((pop || !head_valid_q) && q_cnt_q == '0)) -
+                 (QAW+1)'((pop || !head_valid_q) && q_cnt_q != '0);
       if (go_i) begin
         pf_active_q <= ghost_i != '0 || count_i != '0;
         pf_cross_q <= ghost_i != '0;
@@ -214,8 +254,9 @@ module rheo_sweep_enum #(
         cur_q <= 1'b0;
         waiting_q <= 1'b1;
         running_q <= 1'b0;
-        // The queue's first entry is there in clock 3; the first slot leaves in clock
-        // 3 + delay and is in the slot registers from clock 4 + delay (SweepLeadClocks).
+        // The queue's first entry is there in clock 4 (read, masked, counted); the first
+        // slot leaves in clock 4 + delay and is in the slot registers from clock
+        // 5 + delay (SweepLeadClocks).
         wait_q <= (DelayW+2)'(delay_i) + (DelayW+2)'(rheo_consts_pkg::SweepLeadClocks - 2);
       end else if (waiting_q) begin
         if (wait_q == '0) begin
@@ -227,7 +268,7 @@ module rheo_sweep_enum #(
       end
       // Slots.
       slot_o <= slot;
-      edge_o <= slot && m != '0;
+      edge_o <= slot && rem != '0;
       first_o <= slot && !cur_q;
       last_o <= slot && last;
       cross_o <= e[ECross];
@@ -240,15 +281,16 @@ module rheo_sweep_enum #(
       has_in_o <= e[EHasIn];
       has_cross_o <= e[EHasCross];
       if (slot) begin
-        if (m != '0) n_q <= n_q + 1'b1;
+        if (rem != '0) n_q <= n_q + 1'b1;
+        cur_rem_q <= rem - NeW'(rem != '0);
         cur_q <= !last;
         if (take) cur_e_q <= head;
         cur_mask_q <= m_next;
         cur_cnt_q <= cnt + 1'b1;
       end
       // The sweep ends when the prefetch has read every particle and the queue is empty.
-      starved_o <= sweeping && !slot && (pf_active_q || rd_q);
-      if (sweeping && !slot && !pf_active_q && !rd_q) running_q <= 1'b0;
+      starved_o <= sweeping && !slot && (pf_active_q || rd_q || m1_q);
+      if (sweeping && !slot && !pf_active_q && !rd_q && !m1_q) running_q <= 1'b0;
     end
   end
 endmodule

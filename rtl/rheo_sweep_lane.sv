@@ -3,7 +3,8 @@
 // runs beside the sweep. Clock by clock, for a slot in the slot registers in clock E
 // (edges and padding alike; every slot takes the same path):
 //   E      the edge's SRAM word is read (device cur_dev_i; rheo_zbt_port: word at E+4)
-//   E+1    the end's local index e = s + o_k (own) or o_k - (ghost - a) (cross)
+//   E+1    the offset o_k; E+2 the end's local index e = s + o_k (own) or o_k - (ghost - a)
+//          (cross)
 //   E+3    memory addresses: the end particle (x/p port A); a particle's first slot also
 //          reads the start (own: x/p port B; cross: the ghost copy)
 //   E+4    x and p of both ends and the SRAM word: its class goes to the class table; an
@@ -17,14 +18,13 @@
 //   E+46   a particle's last slot: its start sum is complete. Cross: written to the ghost
 //          sums (the lane below adds it). Own: the end sum (window copy B), the lane
 //          above's ghost sum and the queued static fields are read
-//   E+47   the three sums added (exact)
-//   E+48   saturated to a word
-//   E+49   the MPM's input (with the queued x and p); E+57 its output: x and p go to the
+//   E+47   start + end sum; E+48 + the lane above's ghost sum (exact); E+49 saturated
+//   E+50   the MPM's input (with the queued x and p); E+58 its output: x and p go to the
 //          slab (x/p port B, the clock after, or one later when a start read has the port)
 //          and, for a particle the lane above keeps a ghost copy of, to that copy; its plate
 //          force to the top
-// A lane's last slot in clock E therefore has its x and p written by clock E+59 and its
-// plate force in the top's accumulator by clock E+59: the drain of hls::kSweepDrainCycles.
+// A lane's last slot in clock E therefore has its x and p written by clock E+60 and its
+// plate force in the top's accumulator by clock E+60: the drain of hls::kSweepDrainCycles.
 //
 // Ports between lanes: the lane below writes this lane's ghost copy and reads its ghost
 // sums; this lane reads the lane below's static words (its port B) for the ghosts'
@@ -110,7 +110,7 @@ module rheo_sweep_lane #(
   input  logic [W-1:0]            plate_prev_i,
   output logic                    plate_valid_o,
   output logic [W-1:0]            plate_f_o,
-  output logic [31:0]             flags_o,      // status bits raised this clock
+  output logic [31:0]             flags_o,      // status bits raised the clock before
   // Host access while idle.
   input  logic [SAW-1:0]          host_addr_i,
   input  logic                    host_xp_we_i,
@@ -169,13 +169,14 @@ module rheo_sweep_lane #(
   localparam int PE = PIdx + SAW, PN = PE + SAW, PMass = PN + NW, PFixed = PMass + MassW;
   localparam int PPlate = PFixed + 1, PHasIn = PPlate + 1, PHasCross = PHasIn + 1;
   localparam int PW = PHasCross + 1;
+  // E+1 holds the slot's offset o_k (PE), E+2 its end's local index there.
   logic [OffW-1:0] off_k;
   logic [SAW:0] e_own, e_cross;
   logic [PW-1:0] p1_q, p2_q, p3_q, p4_q;
   assign off_k = offsets_i[s_k*OffW +: OffW];
-  assign e_own = {1'b0, s_idx} + (SAW+1)'(off_k);
+  assign e_own = {1'b0, p1_q[PIdx +: SAW]} + (SAW+1)'(p1_q[PE +: OffW]);
   // o_k - (ghost - a): in the slab whenever the enumerator put the edge in the stream.
-  assign e_cross = (SAW+1)'(off_k) + {1'b0, s_idx} - (SAW+1)'(ghost_i);
+  assign e_cross = (SAW+1)'(p1_q[PE +: OffW]) + {1'b0, p1_q[PIdx +: SAW]} - (SAW+1)'(ghost_i);
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       p1_q <= '0;
@@ -189,7 +190,7 @@ module rheo_sweep_lane #(
       p1_q[PLast] <= s_last;
       p1_q[PCross] <= s_cross;
       p1_q[PIdx +: SAW] <= s_idx;
-      p1_q[PE +: SAW] <= SAW'(s_cross ? e_cross : e_own);
+      p1_q[PE +: SAW] <= SAW'(off_k);
       p1_q[PN +: NW] <= s_n;
       p1_q[PMass +: MassW] <= s_mass;
       p1_q[PFixed] <= s_fixed;
@@ -197,6 +198,7 @@ module rheo_sweep_lane #(
       p1_q[PHasIn] <= s_has_in;
       p1_q[PHasCross] <= s_has_cross;
       p2_q <= p1_q;
+      p2_q[PE +: SAW] <= SAW'(p1_q[PCross] ? e_cross : e_own);
       p3_q <= p2_q;
       p4_q <= p3_q;
     end
@@ -413,9 +415,9 @@ module rheo_sweep_lane #(
   assign ghost_from = count_i - (SAW+1)'(next_ghost_i);
   assign gsn_raddr_o = GAW'(g1_idx_q - SAW'(ghost_from));
 
-  logic m2_q, m3_q, m4_q;  // a particle's force sum, saturation, MPM input
+  logic m2_q, m3_q, m4_q, m5_q;  // a particle's force sums, saturation, MPM input
   // The MPM queue: an own particle's static fields (LUT RAM, read in E+46) and its x and p
-  // (the ghost memory's upper part, read in E+48 for the MPM's input in E+49), from its
+  // (the ghost memory's upper part, read in E+49 for the MPM's input in E+50), from its
   // first slot to its MPM. The x/p write waits a clock when the MPM's read has port A
   // (both come at most every SweepOwnMinSlots clocks).
   localparam int SW = MassW + 4;
@@ -439,7 +441,7 @@ module rheo_sweep_lane #(
     gq_wdata = qx_pend_data_q;
     if (ghost_rd) begin
       gq_addr = GQAW'(p3_q[PIdx +: SAW]);
-    end else if (m3_q) begin
+    end else if (m4_q) begin
       gq_addr = GQAW'(QBase) + GQAW'(qx_rd_q);
     end else begin
       gq_addr = GQAW'(QBase) + GQAW'(q_wr_q);
@@ -452,15 +454,17 @@ module rheo_sweep_lane #(
   assign h_has_in = qs_head[MassW + 2];
   assign h_has_cross = qs_head[MassW + 3];
 
-  // E+47..E+49: the particle's force.
+  // E+47..E+50: the particle's force: start + end sum (E+47, from the window's registered
+  // output), + the lane above's ghost sum (E+48), saturated to a word (E+49), so that no
+  // clock holds a block RAM's clock-to-out and two 38-bit additions in a row.
   logic [3*SumW-1:0] m2_sacc_q;
   logic m2_has_in_q, m2_has_cross_q, m2_ghost_ok_q;
-  logic [1:0] m2_flags_q, m3_flags_q, m4_flags_q;  // {plate, fixed}
-  logic [SAW-1:0] m2_idx_q, m3_idx_q, m4_idx_q;
-  logic [CoefW-1:0] m3_minv_q, m4_minv_q;
-  logic signed [AccW-1:0] m3_f_q [3];
-  logic [3*W-1:0] m4_f_q;
-  logic m4_sat_q;
+  logic [1:0] m2_flags_q, m3_flags_q, m4_flags_q, m5_flags_q;  // {plate, fixed}
+  logic [SAW-1:0] m2_idx_q, m3_idx_q, m4_idx_q, m5_idx_q;
+  logic [CoefW-1:0] m3_minv_q, m4_minv_q, m5_minv_q;
+  logic signed [AccW-1:0] m3_part_q [3], m3_ghost_q [3], m4_f_q [3];
+  logic [3*W-1:0] m5_f_q;
+  logic m5_sat_q;
   always_ff @(posedge clk_i) begin
     m2_sacc_q <= sacc_q;
     m2_flags_q <= qs_head[MassW +: 2];
@@ -468,29 +472,34 @@ module rheo_sweep_lane #(
     m2_has_in_q <= h_has_in;
     m2_has_cross_q <= h_has_cross;
     m2_ghost_ok_q <= {1'b0, g1_idx_q} >= ghost_from && next_ghost_i != '0;
-    for (int i = 0; i < 3; i++)
-      m3_f_q[i] <= AccW'($signed(m2_sacc_q[i*SumW +: SumW])) +
-                   (m2_has_in_q ? AccW'($signed(end_sum[i*SumW +: SumW])) : AccW'(0)) +
-                   (m2_has_cross_q && m2_ghost_ok_q ? AccW'($signed(gsn_rdata_i[i*SumW +: SumW]))
-                                                    : AccW'(0));
+    for (int i = 0; i < 3; i++) begin
+      m3_part_q[i] <= AccW'($signed(m2_sacc_q[i*SumW +: SumW])) +
+                      (m2_has_in_q ? AccW'($signed(end_sum[i*SumW +: SumW])) : AccW'(0));
+      m3_ghost_q[i] <= m2_has_cross_q && m2_ghost_ok_q
+                           ? AccW'($signed(gsn_rdata_i[i*SumW +: SumW])) : AccW'(0);
+      m4_f_q[i] <= m3_part_q[i] + m3_ghost_q[i];
+    end
     m3_flags_q <= m2_flags_q;
     m3_idx_q <= m2_idx_q;
     m3_minv_q <= minv_i;
-    m4_sat_q <= 1'b0;
-    for (int i = 0; i < 3; i++) begin
-      if (m3_f_q[i] > AccW'(2**(W-1) - 1)) begin
-        m4_f_q[i*W +: W] <= {1'b0, {(W-1){1'b1}}};
-        m4_sat_q <= 1'b1;
-      end else if (m3_f_q[i] < -AccW'(2**(W-1))) begin
-        m4_f_q[i*W +: W] <= {1'b1, {(W-1){1'b0}}};
-        m4_sat_q <= 1'b1;
-      end else begin
-        m4_f_q[i*W +: W] <= m3_f_q[i][W-1:0];
-      end
-    end
     m4_flags_q <= m3_flags_q;
     m4_idx_q <= m3_idx_q;
     m4_minv_q <= m3_minv_q;
+    m5_sat_q <= 1'b0;
+    for (int i = 0; i < 3; i++) begin
+      if (m4_f_q[i] > AccW'(2**(W-1) - 1)) begin
+        m5_f_q[i*W +: W] <= {1'b0, {(W-1){1'b1}}};
+        m5_sat_q <= 1'b1;
+      end else if (m4_f_q[i] < -AccW'(2**(W-1))) begin
+        m5_f_q[i*W +: W] <= {1'b1, {(W-1){1'b0}}};
+        m5_sat_q <= 1'b1;
+      end else begin
+        m5_f_q[i*W +: W] <= m4_f_q[i][W-1:0];
+      end
+    end
+    m5_flags_q <= m4_flags_q;
+    m5_idx_q <= m4_idx_q;
+    m5_minv_q <= m4_minv_q;
   end
 
   // ---------------------------------------------------------------- MPM
@@ -498,11 +507,11 @@ module rheo_sweep_lane #(
   logic [SAW-1:0] mpm_idx;
   logic [3*W-1:0] mpm_x, mpm_p;
   logic [XpW-1:0] qx_head;
-  assign qx_head = ghost_xp;  // read in E+48 (m3_q)
+  assign qx_head = ghost_xp;  // read in E+49 (m4_q)
   rheo_mpm #(.W(W), .CoefW(CoefW), .IdxW(SAW)) u_mpm (
-    .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(m4_q), .idx_i(m4_idx_q), .f_i(m4_f_q),
+    .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(m5_q), .idx_i(m5_idx_q), .f_i(m5_f_q),
     .x_i(qx_head[0 +: 3*W]), .p_i(qx_head[3*W +: 3*W]), .x0_i(qx_head[0 +: 3*W]),
-    .minv_i(m4_minv_q), .flags_i(m4_flags_q),
+    .minv_i(m5_minv_q), .flags_i(m5_flags_q),
     .g_i(gravity_i), .plate_z_i(plate_z_i), .plate_en_i(plate_en_i), .floor_en_i(floor_en_i),
     .hold_en_i(hold_en_i), .plate_prev_i(plate_prev_i), .valid_o(mpm_valid), .idx_o(mpm_idx),
     .x_o(mpm_x), .p_o(mpm_p), .plate_f_o(plate_f_o), .sat_o(mpm_sat));
@@ -522,6 +531,7 @@ module rheo_sweep_lane #(
       m2_q <= 1'b0;
       m3_q <= 1'b0;
       m4_q <= 1'b0;
+      m5_q <= 1'b0;
       wb_q <= 1'b0;
       wb_addr_q <= '0;
       wb_data_q <= '0;
@@ -544,9 +554,10 @@ module rheo_sweep_lane #(
       m2_q <= own_end;
       m3_q <= m2_q;
       m4_q <= m3_q;
+      m5_q <= m4_q;
       if (q_push) qs_wr_q <= qs_wr_q + 1'b1;
       if (own_end) qs_rd_q <= qs_rd_q + 1'b1;
-      if (m3_q) qx_rd_q <= qx_rd_q + 1'b1;
+      if (m4_q) qx_rd_q <= qx_rd_q + 1'b1;
       // The x/p entry waits in qx_pend until port A takes it.
       if (q_write) q_wr_q <= q_wr_q + 1'b1;
       if (q_push) begin
@@ -555,7 +566,7 @@ module rheo_sweep_lane #(
       end else if (q_write) begin
         qx_pend_q <= 1'b0;
       end
-      q_cnt_q <= q_cnt_q + (QAW+1)'(q_push) - (QAW+1)'(m3_q);
+      q_cnt_q <= q_cnt_q + (QAW+1)'(q_push) - (QAW+1)'(m4_q);
       if (u_edge) wr_n_q <= wr_n_q + 1'b1;
       if (u_slot && u_last && u_cross) u_cross_idx_q <= u_cross_idx_q + 1'b1;
       if (u_slot && u_last && !u_cross) u_own_idx_q <= u_own_idx_q + 1'b1;
@@ -594,12 +605,18 @@ module rheo_sweep_lane #(
                     (gxo_we_o && !({1'b0, gxo_addr_o} < next_xread_i)) ||
                     starved || (q_push && q_cnt_q == (QAW+1)'(QDepth)) ||
                     (mpm_valid && wb_q && start_rd);
+  // Raised a clock later (registered): the status is read long after a step ends.
+  logic [31:0] flags;
   always_comb begin
-    flags_o = '0;
-    if (tem_valid && tem_sat) flags_o |= 32'(rheo_consts_pkg::StatusTemSat);
-    if (tem_valid && tem_degen) flags_o |= 32'(rheo_consts_pkg::StatusDegenerate);
-    if ((mpm_valid && mpm_sat) || (m4_q && m4_sat_q)) flags_o |= 32'(rheo_consts_pkg::StatusMpmSat);
-    if (conflict) flags_o |= 32'(rheo_consts_pkg::StatusScheduleConflict);
+    flags = '0;
+    if (tem_valid && tem_sat) flags |= 32'(rheo_consts_pkg::StatusTemSat);
+    if (tem_valid && tem_degen) flags |= 32'(rheo_consts_pkg::StatusDegenerate);
+    if ((mpm_valid && mpm_sat) || (m5_q && m5_sat_q)) flags |= 32'(rheo_consts_pkg::StatusMpmSat);
+    if (conflict) flags |= 32'(rheo_consts_pkg::StatusScheduleConflict);
+  end
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) flags_o <= '0;
+    else flags_o <= flags;
   end
 
 `ifndef SYNTHESIS
@@ -609,10 +626,10 @@ module rheo_sweep_lane #(
     if (!rst_ni) begin
     end else begin
       assert (!(q_push && q_cnt_q == (QAW+1)'(QDepth))) else $error("rheo_sweep_lane: MPM queue overflow");
-      assert (!(m3_q && q_cnt_q == '0)) else $error("rheo_sweep_lane: MPM queue empty at a particle's MPM");
+      assert (!(m4_q && q_cnt_q == '0)) else $error("rheo_sweep_lane: MPM queue empty at a particle's MPM");
       assert (!(q_push && qx_pend_q && !q_write))
         else $error("rheo_sweep_lane: an x/p entry still waiting for port A");
-      assert (!(ghost_rd && (m3_q || qx_pend_q)))
+      assert (!(ghost_rd && (m4_q || qx_pend_q)))
         else $error("rheo_sweep_lane: the queue in port A during the cross sweep");
       assert (!(mpm_valid && wb_q && start_rd)) else $error("rheo_sweep_lane: two MPM results for port B");
       assert (!starved) else $error("rheo_sweep_lane: the stream starved (prefetch behind)");

@@ -130,31 +130,20 @@ void SweepBitTrueTransport::write_word(std::uint32_t region, std::uint32_t index
       return;
     }
     case frame::kRegionSweepLane: {
-      if (index >= std::uint32_t(lanes_)) {
+      // Gathered and committed with the last word, all or nothing (rtl/rheo_sweep_ctrl.sv).
+      const std::uint32_t v = w & frame::kCountMask;
+      if (field < frame::kSweepLaneDelay) {
+        lane_words_[field] = v;
+        return;
+      }
+      if (index >= std::uint32_t(lanes_) || lane_words_[frame::kSweepLaneCount] > std::uint32_t(slab_depth_) ||
+          lane_words_[frame::kSweepLaneGhost] > std::uint32_t(ghost_depth_) ||
+          (index == 0 && lane_words_[frame::kSweepLaneGhost] != 0)) {
         m.status |= hls::kStatusBadCommand;
         return;
       }
-      hls::SweepLaneRegs& l = m.lane[index];
-      const std::uint32_t v = w & frame::kCountMask;
-      switch (field) {
-        case frame::kSweepLaneFirst:
-          l.first = v;
-          break;
-        case frame::kSweepLaneCount:
-          if (v > std::uint32_t(slab_depth_))
-            m.status |= hls::kStatusBadCommand;
-          else
-            l.count = v;
-          break;
-        case frame::kSweepLaneGhost:
-          if (v > std::uint32_t(ghost_depth_) || (index == 0 && v != 0))
-            m.status |= hls::kStatusBadCommand;
-          else
-            l.ghost = v;
-          break;
-        default:
-          l.delay = v;
-      }
+      m.lane[index] = {lane_words_[frame::kSweepLaneFirst], lane_words_[frame::kSweepLaneCount],
+                       lane_words_[frame::kSweepLaneGhost], v};
       return;
     }
     case frame::kRegionSweepOffset:

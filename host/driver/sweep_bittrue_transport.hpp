@@ -37,6 +37,7 @@ class SweepBitTrueTransport : public Transport {
   std::unique_ptr<hls::SweepMemory> mem_;
   std::deque<std::uint32_t> in_, out_;
   std::uint32_t d_word_ = 0;  // a SweepEdge entry's first word, until its tag arrives
+  std::uint32_t lane_words_[3] = {};  // a SweepLane entry's first words, until its last
   std::uint32_t cycles_ = 0;
 };
 

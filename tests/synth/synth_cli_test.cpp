@@ -50,4 +50,40 @@ TEST(SynthCli, ASubsetOfDesignsWarnsForEveryFigureItCannotComputeAndComparesOnly
   EXPECT_EQ(j["performance"]["sensitivity"]["corners"].size(), 9u);
 }
 
+// The sweep core design (a one-lane build small enough for a test): its resources against
+// the chip, block5 on it, and block15, which the build cannot hold, refused with the reason
+// and not called feasible.
+TEST(SynthCli, TheSweepCoreBuildIsCheckedAgainstTheChipAndRefusesAModelItCannotHold) {
+  const fs::path out = fs::temp_directory_path() / ("rheo_synth_sweep_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  const auto r = run_rheo("synth --designs sweep --sweep-build 1,128,32,512 --no-reference-timing "
+                          "-q --out " + out.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(out / "synth.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  fs::remove_all(out);
+  const auto& sweep = j["performance"]["sweep_core"];
+  ASSERT_TRUE(sweep.is_object()) << j["performance"].dump(2);
+  EXPECT_EQ(sweep["resources"]["mult18x18"].get<int>(), 28);  // one TEM and one MPM
+  EXPECT_TRUE(sweep["fits_xc2v6000"].get<bool>());
+  EXPECT_EQ(sweep["sram"]["devices"].get<int>(), 2);
+  for (const auto& row : sweep["scenarios"]) {
+    const std::string name = row["scenario"];
+    if (name == "block5") {
+      EXPECT_TRUE(row["feasible_on_one_xc2v6000"].get<bool>());
+      EXPECT_EQ(row["lanes_used"].get<int>(), 1);
+      // One lane: every edge in one stream, plus padding and the drain.
+      EXPECT_GT(row["cycles_per_step"].get<long>(), 1036);
+      const auto& range = row["estimated_us_per_step_range"];
+      EXPECT_LT(range[0].get<double>(), row["estimated_us_per_step"].get<double>());
+    } else {
+      EXPECT_EQ(name, "block15");
+      EXPECT_FALSE(row["feasible_on_one_xc2v6000"].get<bool>());
+      EXPECT_NE(row["refused_because"].get<std::string>().find("3600 particles"),
+                std::string::npos);
+    }
+  }
+  EXPECT_NE(r.output.find("block15 on the sweep core: NOT feasible"), std::string::npos) << r.output;
+}
+
 }  // namespace
