@@ -174,6 +174,7 @@ int main() {
   param("SweepCrossMinSlots", h::kSweepCrossMinSlots, "slots of a ghost particle at least");
   param("SweepOwnMinSlots", h::kSweepOwnMinSlots, "slots of an own particle at least");
   param("SweepLeadClocks", h::kSweepLeadClocks, "plate word to a lane's first slot");
+  param("SweepPlateTreeLevels", h::kSweepPlateTreeLevels, "registered levels of the lanes' plate sum");
   param("TemLateCoefClocks", h::kTemLateCoefClocks,
         "rheo_tem with LateCoef: coefficients this many clocks after the edge");
   param("SweepDrainCycles", h::kSweepDrainCycles, "cycles per step beyond the slowest lane");

@@ -83,14 +83,18 @@ inline constexpr int kSweepOwnMinSlots = 2;
 //   register), the operand registers with L from the class table (1), the TEM (its
 //   material's coefficients follow kTemLateCoefClocks later, inside its latency), the
 //   start sum complete (1), the three sums added in two steps and saturated (3), the MPM's
-//   input register (1), the MPM, the lane's done register (1), the plate accumulator (1),
-//   the word offered (1).
+//   input register (1), the MPM, the lane's done register (1), the plate force's tree of
+//   lane sums (kSweepPlateTreeLevels) and its accumulator (1), the word offered (1).
 inline constexpr int kSweepSramClocks = 1 + kZbtLatency + 1;
 // The sweep core's TEM takes its coefficients when its products need them
 // (rtl/rheo_tem.sv LateCoef): this many clocks after the edge's operands.
 inline constexpr int kTemLateCoefClocks = 29;
 inline constexpr int kSweepLeadClocks = 5;
+// The lanes' plate forces are summed in a registered tree of pair sums (up to eight lanes).
+inline constexpr int kSweepPlateTreeLevels = 3;
+static_assert((1 << kSweepPlateTreeLevels) >= kSweepMaxLanes, "the tree takes every lane");
 inline constexpr int kSweepDrainCycles =
-    kSweepLeadClocks - 1 + kSweepSramClocks + 1 + kTemLatency + 5 + kMpmLatency + 3;
+    kSweepLeadClocks - 1 + kSweepSramClocks + 1 + kTemLatency + 5 + kMpmLatency + 1 +
+    kSweepPlateTreeLevels + 1;
 
 }  // namespace rheo::hls

@@ -138,8 +138,9 @@ package rheo_consts_pkg;
   localparam int SweepCrossMinSlots = 1;  // slots of a ghost particle at least
   localparam int SweepOwnMinSlots = 2;  // slots of an own particle at least
   localparam int SweepLeadClocks = 5;  // plate word to a lane's first slot
+  localparam int SweepPlateTreeLevels = 3;  // registered levels of the lanes' plate sum
   localparam int TemLateCoefClocks = 29;  // rheo_tem with LateCoef: coefficients this many clocks after the edge
-  localparam int SweepDrainCycles = 65;  // cycles per step beyond the slowest lane
+  localparam int SweepDrainCycles = 67;  // cycles per step beyond the slowest lane
 
   // Words per entry of each region.
   function automatic logic [EntryFieldW-1:0] words_per_entry(

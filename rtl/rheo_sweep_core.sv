@@ -11,8 +11,7 @@
 //   - a particle's MPM runs as soon as the sweep has passed it; the step ends one pipeline
 //     after the slowest lane's last slot: max over lanes of (start delay + slots) +
 //     SweepDrainCycles clocks (hls::sweep_cycles), nothing depending on the data.
-// The TEM and MPM are rheo_core's (rheo_tem, rheo_mpm), the plate force accumulator and
-// material table too, so the arithmetic is the same and the words equal hls::core_step's on
+// The TEM and MPM are rheo_core's (rheo_tem, rheo_mpm), the material table too, so the arithmetic is the same and the words equal hls::core_step's on
 // the model with every edge oriented from its lower to its higher particle
 // (hls::sweep_step).
 //
@@ -207,7 +206,7 @@ module rheo_sweep_core #(
     for (int j = 0; j < Lanes; j++) lane_flags |= flags[j];
   end
 
-  rheo_core_plate_acc #(.Lanes(Lanes), .W(W)) u_plate_acc (
+  rheo_sweep_plate_acc #(.Lanes(Lanes), .W(W)) u_plate_acc (
     .clk_i(clk_i), .start_i(go), .valid_i(plate_valid), .plate_f_i(plate_f), .acc_o(plate_acc));
 
   // ---------------------------------------------------------------- read-back

@@ -157,6 +157,7 @@ module rheo_sweep_ctrl #(
   // that slab.
   logic [Lanes-1:0] above_q, above_d;
   logic [IdxCountW-1:0] offset_q, offset_d;  // index - the found lane's first particle
+  logic [SAW:0] lane_count_q, lane_count_d;   // the found lane's particles
   logic locate_done;
   logic [LW-1:0] find_lane;
   always_comb begin
@@ -165,38 +166,60 @@ module rheo_sweep_ctrl #(
     for (int j = 1; j < Lanes; j++)
       if (above_q[j]) find_lane = LW'(j);
   end
-  // The next particle entry: local + 1, or the next lane's first.
+  // The next particle entry: local + 1, or the next lane's first. left_q counts the entries
+  // after this one in its slab; per lane, registered from the lane registers: whether the
+  // next lane holds particles, and its count less one (no lane multiplexer before a
+  // compare on this path).
+  logic [Lanes-1:0] next_lane_used_q;
+  logic [SAW:0] next_count_m1_q [Lanes];
+  logic [SAW:0] left_q, left_d;
+  always_ff @(posedge clk_i) begin
+    for (int j = 0; j < Lanes; j++) begin
+      if (j + 1 < Lanes) begin
+        next_lane_used_q[j] <= lcount_q[j+1] != '0;
+        next_count_m1_q[j] <= lcount_q[j+1] - 1'b1;
+      end else begin
+        next_lane_used_q[j] <= 1'b0;
+        next_count_m1_q[j] <= '0;
+      end
+    end
+  end
   logic [LW-1:0] next_lane;
-  logic [SAW:0] next_local;
+  logic [SAW:0] next_local, next_left;
   logic next_in_slab;
   always_comb begin
     next_lane = lane_q;
     next_local = local_q + 1'b1;
+    next_left = left_q - 1'b1;
     next_in_slab = in_slab_q;
-    if (particle_region) begin
-      if (next_local >= lcount_q[lane_q]) begin
-        next_local = '0;
-        if (32'(lane_q) + 1 < Lanes && lcount_q[LW'(32'(lane_q) + 1)] != '0)
-          next_lane = lane_q + 1'b1;
-        else next_in_slab = 1'b0;
-      end
+    if (particle_region && left_q == '0) begin
+      next_local = '0;
+      next_left = next_count_m1_q[lane_q];
+      if (next_lane_used_q[lane_q]) next_lane = lane_q + 1'b1;
+      else next_in_slab = 1'b0;
     end
   end
   // The lane above keeps a ghost copy of this slab's last ghost particles: whether the
   // current entry is one of them and its ghost address, registered from local_q (a state
   // entry's write comes with its sixth word, local_q has not changed for five clocks).
-  logic has_above;
-  logic [SAW:0] ghost_from;
+  // Per lane, registered from the lane registers (written long before any particle): the
+  // local index where the lane above's ghosts begin, and whether it keeps any.
+  logic [SAW:0] ghost_from_q [Lanes];
+  logic [Lanes-1:0] has_ghost_above_q;
   logic in_ghost_q;
   logic [GAW-1:0] ghost_addr_q;
-  always_comb begin
-    has_above = 32'(lane_q) + 1 < Lanes;
-    ghost_from = lcount_q[lane_q];
-    if (has_above) ghost_from = lcount_q[lane_q] - (SAW+1)'(lghost_q[LW'(32'(lane_q) + 1)]);
-  end
   always_ff @(posedge clk_i) begin
-    in_ghost_q <= has_above && lghost_q[LW'(32'(lane_q) + 1)] != '0 && local_q >= ghost_from;
-    ghost_addr_q <= GAW'(local_q - ghost_from);
+    for (int j = 0; j < Lanes; j++) begin
+      if (j + 1 < Lanes) begin
+        ghost_from_q[j] <= lcount_q[j] - (SAW+1)'(lghost_q[j+1]);
+        has_ghost_above_q[j] <= lghost_q[j+1] != '0;
+      end else begin
+        ghost_from_q[j] <= lcount_q[j];
+        has_ghost_above_q[j] <= 1'b0;
+      end
+    end
+    in_ghost_q <= has_ghost_above_q[lane_q] && local_q >= ghost_from_q[lane_q];
+    ghost_addr_q <= GAW'(local_q - ghost_from_q[lane_q]);
   end
 
   assign host_we_o = (state_q == StWData) && in_fire && !particle_region && !slot_region &&
@@ -298,6 +321,8 @@ module rheo_sweep_ctrl #(
     local_d = local_q;
     in_slab_d = in_slab_q;
     offset_d = offset_q;
+    lane_count_d = lane_count_q;
+    left_d = left_q;
     wait_d = wait_q;
     clear_d = clear_q;
     out_data_d = out_data_q;
@@ -369,10 +394,14 @@ module rheo_sweep_ctrl #(
           unique case (wait_q)
             WaitW'(0): ;  // above_q is registered from index_q
             WaitW'(1): lane_d = find_lane;
-            WaitW'(2): offset_d = index_q - first_q[lane_q];
+            WaitW'(2): begin
+              offset_d = index_q - first_q[lane_q];
+              lane_count_d = lcount_q[lane_q];
+            end
             default: begin
               local_d = (SAW+1)'(offset_q);
-              in_slab_d = above_q[lane_q] && offset_q < IdxCountW'(lcount_q[lane_q]);
+              left_d = lane_count_q - (SAW+1)'(offset_q) - 1'b1;
+              in_slab_d = above_q[lane_q] && offset_q < IdxCountW'(lane_count_q);
             end
           endcase
         end else if (slot_region) begin
@@ -431,6 +460,7 @@ module rheo_sweep_ctrl #(
             if (particle_region) begin
               lane_d = next_lane;
               local_d = next_local;
+              left_d = next_left;
               in_slab_d = next_in_slab;
             end
             count_d = count_q - IdxCountW'(1);
@@ -470,6 +500,7 @@ module rheo_sweep_ctrl #(
             if (particle_region) begin
               lane_d = next_lane;
               local_d = next_local;
+              left_d = next_left;
               in_slab_d = next_in_slab;
             end
             count_d = count_q - IdxCountW'(1);
@@ -509,18 +540,26 @@ module rheo_sweep_ctrl #(
         end
       end
       StRun: begin
-        if (&done_i) state_d = StDrain;
+        if (&done_i) begin
+          // The last plate forces still climb the lanes' sum tree (rheo_sweep_plate_acc).
+          wait_d = WaitW'(rheo_consts_pkg::SweepPlateTreeLevels - 1);
+          state_d = StDrain;
+        end
       end
       StDrain: begin
-        // The last plate force was added to the accumulator in this clock's edge.
-        out_data_d = rheo_consts_pkg::sat_word(WideW'(signed'(plate_acc_i)));
-        if (rheo_consts_pkg::clips(WideW'(signed'(plate_acc_i)), W))
-          status_d = status_q | lane_flags_i | 32'(rheo_consts_pkg::StatusPlateSat);
-        out_valid_d = 1'b1;
-        out_last_d = (count_q == IdxCountW'(1));
-        step_count_d = step_count_q + 32'd1;
-        cur_dev_d = !cur_dev_q;
-        state_d = StForceOut;
+        if (wait_q != '0) begin
+          wait_d = wait_q - 1'b1;
+        end else begin
+          // The last plate force was added to the accumulator in this clock's edge.
+          out_data_d = rheo_consts_pkg::sat_word(WideW'(signed'(plate_acc_i)));
+          if (rheo_consts_pkg::clips(WideW'(signed'(plate_acc_i)), W))
+            status_d = status_q | lane_flags_i | 32'(rheo_consts_pkg::StatusPlateSat);
+          out_valid_d = 1'b1;
+          out_last_d = (count_q == IdxCountW'(1));
+          step_count_d = step_count_q + 32'd1;
+          cur_dev_d = !cur_dev_q;
+          state_d = StForceOut;
+        end
       end
       StForceOut: begin
         if (out_fire) begin
@@ -548,6 +587,8 @@ module rheo_sweep_ctrl #(
       in_slab_q <= 1'b0;
       above_q <= '0;
       offset_q <= '0;
+      lane_count_q <= '0;
+      left_q <= '0;
       wait_q <= '0;
       clear_q <= 1'b0;
       out_data_q <= '0;
@@ -584,6 +625,8 @@ module rheo_sweep_ctrl #(
       in_slab_q <= in_slab_d;
       above_q <= above_d;
       offset_q <= offset_d;
+      lane_count_q <= lane_count_d;
+      left_q <= left_d;
       wait_q <= wait_d;
       clear_q <= clear_d;
       out_data_q <= out_data_d;

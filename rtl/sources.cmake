@@ -41,7 +41,7 @@ set(RHEO_RTL_SWEEP_FILES
   rheo_ram_tdp2.sv
   rheo_stream_checker.sv
   rheo_core_mem_mat.sv
-  rheo_core_plate_acc.sv
+  rheo_sweep_plate_acc.sv
   rheo_zbt_port.sv
   rheo_sweep_tables.sv
   rheo_sweep_end_sums.sv

@@ -142,7 +142,7 @@ const std::vector<Group> kSweepTraceGroups = {
          {"u_ctrl.cur_dev_q", Show::kBit, Expect::kAny, "cur_dev_q (SRAM device read)"},
          {"u_ctrl.plate_z_q", Show::kPosition, Expect::kWord, "plate_z_q"},
          {"done", Show::kHex, Expect::kAny, "lanes done"},
-         {"u_plate_acc.plate_in_q", Show::kForce, Expect::kWide, "plate_in_q"},
+         {"u_plate_acc.sum3_q", Show::kForce, Expect::kWide, "plate lanes' sum"},
          {"u_plate_acc.plate_acc_q", Show::kForce, Expect::kWide, "plate_acc_q"},
          {"u_ctrl.status_q", Show::kHex, Expect::kAny, "status_q"},
      }},
