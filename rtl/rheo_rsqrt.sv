@@ -34,15 +34,29 @@ module rheo_rsqrt #(
   end
 
   // ---- stage 1: n = bit length of l2n ----
-  // Leading one in parallel (bit b is it iff no higher bit is set), n an OR of the
-  // candidates' constants: a balanced AND/OR tree rather than a priority multiplexer chain.
+  // Leading one in two levels, so the mapped logic stays shallow: within each group of G
+  // bits the local bit length (a function of G inputs), and the group that holds the
+  // leading one (no higher group has a bit set); n is an OR of the candidates, at most one
+  // of which is non-zero, rather than a priority multiplexer chain.
+  localparam int G = 6;
+  localparam int NG = (L2W + G - 1) / G;
   logic [5:0] n_w;
-  logic [L2W-1:0] higher;  // higher[b]: a bit above b is set
+  logic [NG*G-1:0] l2_pad;
+  logic [NG-1:0] any_g;        // group g has a bit set
+  logic [NG-1:0] higher_g;     // a group above g has a bit set
+  logic [2:0] local_n [NG];    // bit length within group g (0 when empty)
   always_comb begin
-    higher[L2W-1] = 1'b0;
-    for (int b = L2W - 2; b >= 0; b--) higher[b] = higher[b+1] | l2_i[b+1];
+    l2_pad = (NG * G)'(l2_i);
+    for (int g = 0; g < NG; g++) begin
+      any_g[g] = |l2_pad[g*G +: G];
+      local_n[g] = 3'd0;
+      for (int b = 0; b < G; b++) if (l2_pad[g*G + b]) local_n[g] = 3'(b + 1);
+    end
+    higher_g[NG-1] = 1'b0;
+    for (int g = NG - 2; g >= 0; g--) higher_g[g] = higher_g[g+1] | any_g[g+1];
     n_w = '0;
-    for (int b = 0; b < L2W; b++) n_w = n_w | ((l2_i[b] & ~higher[b]) ? 6'(b + 1) : 6'd0);
+    for (int g = 0; g < NG; g++)
+      n_w = n_w | ((any_g[g] & ~higher_g[g]) ? 6'(g * G) + 6'(local_n[g]) : 6'd0);
   end
   logic [L2W-1:0] l2_1_q;
   logic [5:0] n_1_q;

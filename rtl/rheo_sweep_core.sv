@@ -210,24 +210,25 @@ module rheo_sweep_core #(
     .clk_i(clk_i), .start_i(go), .valid_i(plate_valid), .plate_f_i(plate_f), .acc_o(plate_acc));
 
   // ---------------------------------------------------------------- read-back
-  // The word of the entry the controller reads (memories read in the clock before),
-  // registered once more: the lane and field multiplexer behind the block RAMs' outputs
-  // would otherwise sit in front of the controller's output register.
-  logic [W-1:0] read_sel;
-  always_ff @(posedge clk_i) read_word <= read_sel;
-  always_comb begin
-    read_sel = '0;
+  // The word of the entry the controller reads (memories read in the clock before), in two
+  // registered steps: each lane's field and region first, right behind its block RAMs'
+  // outputs, then the lane. One wide multiplexer behind the block RAMs would not fit a clock.
+  logic [W-1:0] lane_word_q [Lanes];
+  always_ff @(posedge clk_i) begin
     for (int j = 0; j < Lanes; j++) begin
-      if (32'(lane_sel) == j) begin
-        unique case (region)
-          RegionW'(rheo_consts_pkg::RegionParticleState): read_sel = xp_rdata[j][field*W +: W];
-          RegionW'(rheo_consts_pkg::RegionSweepParticle): read_sel = W'(stat_rdata[j]);
-          RegionW'(rheo_consts_pkg::RegionEdgeLength): read_sel = zbt_rdata[j][W-1:0];
-          RegionW'(rheo_consts_pkg::RegionSweepEdge):
-            read_sel = field == '0 ? zbt_rdata[j][W-1:0] : W'(zbt_rdata[j][DW-1:W]);
-          default: read_sel = '0;
-        endcase
-      end
+      unique case (region)
+        RegionW'(rheo_consts_pkg::RegionParticleState): lane_word_q[j] <= xp_rdata[j][field*W +: W];
+        RegionW'(rheo_consts_pkg::RegionSweepParticle): lane_word_q[j] <= W'(stat_rdata[j]);
+        RegionW'(rheo_consts_pkg::RegionEdgeLength): lane_word_q[j] <= zbt_rdata[j][W-1:0];
+        RegionW'(rheo_consts_pkg::RegionSweepEdge):
+          lane_word_q[j] <= field == '0 ? zbt_rdata[j][W-1:0] : W'(zbt_rdata[j][DW-1:W]);
+        default: lane_word_q[j] <= '0;
+      endcase
     end
+  end
+  always_ff @(posedge clk_i) begin
+    read_word <= '0;
+    for (int j = 0; j < Lanes; j++)
+      if (32'(lane_sel) == j) read_word <= lane_word_q[j];
   end
 endmodule

@@ -83,7 +83,10 @@ module rheo_sweep_ctrl #(
   localparam int WideW = rheo_consts_pkg::WideW;
   localparam int OpW = rheo_consts_pkg::HeaderOpcodeBits;
   localparam int ReadWait = 1 + rheo_consts_pkg::ZbtLatency + 1;  // an SRAM word's clocks
-  localparam int WaitW = $clog2(ReadWait + 1);
+  // A fetch waits ReadWait + 1 clocks for an SRAM word: the read-back takes two registered
+  // steps (the lane's field, then the lane; rheo_sweep_core).
+  localparam int FetchWait = ReadWait + 1;
+  localparam int WaitW = $clog2(FetchWait + 1);
 
   typedef enum logic [3:0] {
     StIdle, StWStart, StWLocate, StWData, StRStart, StRLocate, StRFetch, StRLoad, StRSend,
@@ -241,7 +244,7 @@ module rheo_sweep_ctrl #(
                      region_q == RegionW'(rheo_consts_pkg::RegionSweepParticle);
   // SRAM: a SweepEdge entry {d, tag} is one word; reads of both slot regions.
   assign zbt_valid_o = (data_word && region_q == RegionW'(rheo_consts_pkg::RegionSweepEdge)) ||
-                       (state_q == StRFetch && slot_region && wait_q == WaitW'(ReadWait));
+                       (state_q == StRFetch && slot_region && wait_q == WaitW'(FetchWait));
   assign zbt_we_o = state_q == StWData;
   assign zbt_addr_o = index_q[NW-1:0];
   assign zbt_wdata_o = {s_axis_tdata[rheo_consts_pkg::SweepClassBits:0], xp_buf_q[W-1:0]};
@@ -262,7 +265,7 @@ module rheo_sweep_ctrl #(
 `ifndef SYNTHESIS
   rheo_stream_checker #(
     .W(W), .StateW($bits(state_q)), .NumStates(32'(StForceOut) + 1), .Lanes(Lanes), .BW(LW),
-    .DrainW(WaitW), .MaxDrain(ReadWait), .DivStepW(1), .DivSteps(0)
+    .DrainW(WaitW), .MaxDrain(FetchWait), .DivStepW(1), .DivSteps(0)
   ) u_checker (
     .clk_i(clk_i), .rst_ni(rst_ni),
     .s_axis_tdata(s_axis_tdata), .s_axis_tvalid(s_axis_tvalid), .s_axis_tready(s_axis_tready),
@@ -411,7 +414,7 @@ module rheo_sweep_ctrl #(
           in_slab_d = 1'b1;
         end
         if (locate_done) begin
-          wait_d = WaitW'(ReadWait);
+          wait_d = WaitW'(FetchWait);
           state_d = reading_q ? StRFetch : StWData;
         end
       end
@@ -472,9 +475,9 @@ module rheo_sweep_ctrl #(
       end
       StRFetch: begin
         // Memory words arrive the next clock, SRAM words ReadWait clocks after the command
-        // (issued in the first fetch clock); the top registers the selected word once more
-        // (rheo_sweep_core's read-back), so StRLoad takes it a clock later.
-        if ((!slot_region && wait_q == WaitW'(ReadWait - 1)) || wait_q == '0) state_d = StRLoad;
+        // (issued in the first fetch clock); the top registers the selected word twice
+        // (rheo_sweep_core's read-back), so StRLoad takes it two clocks later.
+        if ((!slot_region && wait_q == WaitW'(FetchWait - 2)) || wait_q == '0) state_d = StRLoad;
         else wait_d = wait_q - 1'b1;
       end
       StRLoad: begin
@@ -493,7 +496,7 @@ module rheo_sweep_ctrl #(
         if (out_fire) begin
           out_valid_d = 1'b0;
           out_last_d = 1'b0;
-          wait_d = WaitW'(ReadWait);
+          wait_d = WaitW'(FetchWait);
           if (entry_done) begin
             field_d = '0;
             index_d = index_q + IdxCountW'(1);

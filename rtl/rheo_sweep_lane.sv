@@ -411,8 +411,14 @@ module rheo_sweep_lane #(
   assign gs_wdata = sacc_q;
   assign sum_raddr = g1_idx_q[WAW-1:0];
   // The lane above's ghosts are this slab's last next_ghost particles.
+  // From registers: count_i and next_ghost_i are the lane registers the host writes
+  // between steps, many clocks before the next one starts.
   logic [SAW:0] ghost_from;
-  assign ghost_from = count_i - (SAW+1)'(next_ghost_i);
+  logic has_next_ghost;
+  always_ff @(posedge clk_i) begin
+    ghost_from <= count_i - (SAW+1)'(next_ghost_i);
+    has_next_ghost <= next_ghost_i != '0;
+  end
   assign gsn_raddr_o = GAW'(g1_idx_q - SAW'(ghost_from));
 
   logic m2_q, m3_q, m4_q, m5_q;  // a particle's force sums, saturation, MPM input
@@ -471,7 +477,7 @@ module rheo_sweep_lane #(
     m2_idx_q <= g1_idx_q;
     m2_has_in_q <= h_has_in;
     m2_has_cross_q <= h_has_cross;
-    m2_ghost_ok_q <= {1'b0, g1_idx_q} >= ghost_from && next_ghost_i != '0;
+    m2_ghost_ok_q <= {1'b0, g1_idx_q} >= ghost_from && has_next_ghost;
     for (int i = 0; i < 3; i++) begin
       m3_part_q[i] <= AccW'($signed(m2_sacc_q[i*SumW +: SumW])) +
                       (m2_has_in_q ? AccW'($signed(end_sum[i*SumW +: SumW])) : AccW'(0));
@@ -517,7 +523,7 @@ module rheo_sweep_lane #(
     .x_o(mpm_x), .p_o(mpm_p), .plate_f_o(plate_f_o), .sat_o(mpm_sat));
   assign plate_valid_o = mpm_valid;
   // To the lane above's ghost copy.
-  assign gxo_we_o = mpm_valid && {1'b0, mpm_idx} >= ghost_from && next_ghost_i != '0;
+  assign gxo_we_o = mpm_valid && {1'b0, mpm_idx} >= ghost_from && has_next_ghost;
   assign gxo_addr_o = GAW'(mpm_idx - SAW'(ghost_from));
   assign gxo_wdata_o = {mpm_p, mpm_x};
 
@@ -599,12 +605,20 @@ module rheo_sweep_lane #(
   // A ghost sum read before the lane above wrote it, or a ghost write before it read the
   // ghost, would mix steps: the host's start delays keep them apart; the flag reports a
   // load that does not.
-  assign conflict = (own_end && h_has_cross &&
-                     !({1'b0, g1_idx_q} >= ghost_from && next_ghost_i != '0 &&
-                       {1'b0, gsn_raddr_o} < next_xdone_i)) ||
-                    (gxo_we_o && !({1'b0, gxo_addr_o} < next_xread_i)) ||
-                    starved || (q_push && q_cnt_q == (QAW+1)'(QDepth)) ||
-                    (mpm_valid && wb_q && start_rd);
+  // Its terms are registered and raise the flag a clock later (the status is read long
+  // after a step ends), so the comparisons do not meet the flag logic in one clock.
+  logic [4:0] conflict_q;
+  always_ff @(posedge clk_i or negedge rst_ni) begin
+    if (!rst_ni) conflict_q <= '0;
+    else conflict_q <= {own_end && h_has_cross &&
+                          !({1'b0, g1_idx_q} >= ghost_from && has_next_ghost &&
+                            {1'b0, gsn_raddr_o} < next_xdone_i),
+                        gxo_we_o && !({1'b0, gxo_addr_o} < next_xread_i),
+                        starved,
+                        q_push && q_cnt_q == (QAW+1)'(QDepth),
+                        mpm_valid && wb_q && start_rd};
+  end
+  assign conflict = |conflict_q;
   // Raised a clock later (registered): the status is read long after a step ends.
   logic [31:0] flags;
   always_comb begin
