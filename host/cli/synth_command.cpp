@@ -71,6 +71,8 @@ struct Options {
   std::string core_top = "rheo_core";
   synth::Capacity core_capacity{128, 2048};
   bool time_reference = true;
+  // Another copy of rtl/ (a modified design synthesised beside the one built into rheo).
+  std::string rtl_dir;
 };
 
 json resources_json(const Resources& r) {
@@ -340,7 +342,8 @@ void run(const Options& opt) {
   sweep_build.window = opt.sweep_build[3];
   output::StagedDirectory staged(opt.output.out, opt.output.force);
   const fs::path out = staged.path();
-  const synth::YosysSetup setup = synth::default_setup();
+  synth::YosysSetup setup = synth::default_setup();
+  if (!opt.rtl_dir.empty()) setup.rtl_dir = fs::absolute(opt.rtl_dir);
   // Figures that cannot be computed from the designs run: said in synth.json and on screen.
   json warnings = json::array();
   auto warn = [&warnings](const std::string& text) {
@@ -733,6 +736,10 @@ void register_synth(CLI::App& app) {
       ->delimiter(',')
       ->expected(4)
       ->capture_default_str();
+  cmd->add_option("--rtl-dir", opt->rtl_dir,
+                  "synthesise the SystemVerilog in this folder instead of the repository's rtl/ "
+                  "(same file names; a modified copy of the design)")
+      ->check(CLI::ExistingDirectory);
   cmd->add_flag("!--no-reference-timing", opt->time_reference,
                 "skip timing the double reference model");
   cmd->callback([opt] { run(*opt); });
