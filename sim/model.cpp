@@ -18,7 +18,11 @@ int spectrum_stride(const Model& model) {
 State initial_state(const Model& model) {
   State s;
   s.x = model.x0;
-  s.v.assign(model.x0.size(), Vec3::Zero());
+  if (model.v0.empty()) {
+    s.v.assign(model.x0.size(), Vec3::Zero());
+  } else {
+    s.v = model.v0;
+  }
   s.d.resize(model.edges.size());
   for (std::size_t k = 0; k < model.edges.size(); ++k) s.d[k] = model.edges[k].L;
   s.m.assign(model.edges.size(), 0.0);
@@ -84,6 +88,65 @@ void validate_material(const EdgeMaterial& m, int index) {
   }
 }
 
+// Objects, their contact and the tools (docs/contact.md).
+void validate_objects(const Model& model) {
+  const int n = model.num_particles();
+  const int objects = static_cast<int>(model.object_names.size());
+  if (!model.object.empty()) {
+    if (static_cast<int>(model.object.size()) != n) {
+      fail("model", "object.size()", static_cast<double>(model.object.size()),
+           "one object index per particle (" + std::to_string(n) + ") or none");
+    }
+    for (int i = 0; i < n; ++i) {
+      require_index("particle " + std::to_string(i), "object", model.object[i],
+                    std::max(objects, 1), "object");
+    }
+    for (int k = 0; k < model.num_edges(); ++k) {
+      const Edge& e = model.edges[k];
+      if (model.object[e.s] != model.object[e.e]) {
+        fail("edge " + std::to_string(k), "end's object", model.object[e.e],
+             "the start's object " + std::to_string(model.object[e.s]) +
+                 " (an edge never joins two objects)");
+      }
+    }
+  }
+  if (!model.v0.empty()) {
+    if (static_cast<int>(model.v0.size()) != n) {
+      fail("model", "v0.size()", static_cast<double>(model.v0.size()),
+           "one initial velocity per particle (" + std::to_string(n) + ") or none");
+    }
+    for (int i = 0; i < n; ++i) {
+      if (!model.v0[i].allFinite()) fail("particle " + std::to_string(i), "v0", 0, "finite");
+    }
+  }
+  const ObjectContact& c = model.contact;
+  if (c.enabled) {
+    require_positive("contact", "eps", c.penalty.eps);
+    require_positive("contact", "k", c.penalty.k);
+    require_non_negative("contact", "c", c.penalty.c);
+    require_non_negative("contact", "mu", c.penalty.mu);
+    const int no = std::max(objects, 1);
+    if (!c.mu.empty()) {
+      if (static_cast<int>(c.mu.size()) != no * no) {
+        fail("contact", "mu.size()", static_cast<double>(c.mu.size()),
+             "objects x objects (" + std::to_string(no * no) + ") or none");
+      }
+      for (int a = 0; a < no; ++a) {
+        for (int b = 0; b < no; ++b) {
+          const std::string where = "contact mu[" + std::to_string(a) + "][" + std::to_string(b) + "]";
+          require_non_negative(where, "mu", c.mu[a * no + b]);
+          if (c.mu[a * no + b] != c.mu[b * no + a]) {
+            fail(where, "mu", c.mu[a * no + b], "the same value as mu[b][a] (symmetric)");
+          }
+        }
+      }
+    }
+  }
+  for (std::size_t t = 0; t < model.tools.size(); ++t) {
+    validate_tool(model.tools[t], static_cast<int>(t));
+  }
+}
+
 }  // namespace
 
 void validate(const Model& model) {
@@ -143,6 +206,7 @@ void validate(const Model& model) {
   }
   if (model.volume.enabled) require_non_negative("volume", "kv", model.volume.kv);
   require_positive("model", "mass_scale", model.mass_scale);
+  validate_objects(model);
 }
 
 }  // namespace rheo

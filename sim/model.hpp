@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "sim/contact.hpp"
 #include "sim/edge_kernel.hpp"
+#include "sim/tool.hpp"
 
 namespace rheo {
 
@@ -67,6 +69,7 @@ enum class PlateContact { kPenetration, kHoldWhilePushing };
 struct Model {
   int dim = 3;                      // 2 (triangles in the x-z plane) or 3 (tetrahedra)
   std::vector<Vec3> x0;             // initial positions [m]
+  std::vector<Vec3> v0;             // initial velocities [m/s] (empty: at rest)
   std::vector<double> mass;         // particle masses [kg]
   std::vector<std::uint8_t> flags;  // ParticleFlag per particle
   std::vector<Edge> edges;
@@ -78,6 +81,12 @@ struct Model {
   PlateContact plate_contact = PlateContact::kPenetration;
   TopologyMaintenance topology;
   VolumePreservation volume;
+  // Several objects in one model (docs/contact.md): the object of each particle (empty: all
+  // in object 0) and the objects' names. Edges and elements never join two objects.
+  std::vector<int> object;
+  std::vector<std::string> object_names;
+  ObjectContact contact;  // object-object and self contact
+  std::vector<Tool> tools;  // rigid tools, posed every step (Simulator::set_tool_poses)
   // Documented inertia scaling already applied to `mass` (informational here). The
   // simulator applies `gravity` as given: whoever scales the masses divides `gravity` by
   // the same factor so the weight stays physical (the scenario loader does).

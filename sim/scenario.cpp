@@ -3,6 +3,8 @@
 // same reader, so a built-in can never hold something a user file could not.
 #include "sim/scenario.hpp"
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -107,6 +109,11 @@ class Field {
   // Element i of this array.
   Field at(std::size_t i) const {
     return Field(file_, value_.at(i), pointer_ + "/" + std::to_string(i));
+  }
+  // A 3-vector [x, y, z].
+  Vec3 vec3(const std::string& what) const {
+    if (!value_.is_array() || value_.size() != 3) fail("an array of 3 numbers: " + what);
+    return Vec3(at(0).number(what), at(1).number(what), at(2).number(what));
   }
   std::vector<double> number_array(const std::string& what) const {
     if (!value_.is_array() || value_.empty()) fail("a non-empty array of " + what);
@@ -268,7 +275,15 @@ void read_integrator(const Field& integrator, Scenario& s) {
 
 void read_protocol(const Field& protocol, Scenario& s) {
   if (!protocol.value().is_object()) protocol.fail("an object");
-  const std::string type = protocol["type"].one_of({"push_hold_release", "table"});
+  const std::string type = protocol["type"].one_of({"push_hold_release", "table", "none"});
+  if (type == "none") {
+    // No plate in the scene: objects, tools and gravity only.
+    protocol.expect_object({"type"});
+    s.plate = false;
+    s.protocol.t = {0.0};
+    s.protocol.plate_mm = {0.0};
+    return;
+  }
   const double height_mm = s.block.sz * 1e3;
   if (protocol.has("plate_contact")) {
     s.plate_contact = protocol["plate_contact"].one_of({"penetration", "hold_while_pushing"}) ==
@@ -309,6 +324,148 @@ void read_protocol(const Field& protocol, Scenario& s) {
       mm_field.at(i).fail("a plate displacement below the block height (" +
                           std::to_string(height_mm) + " mm)");
     }
+  }
+}
+
+// /contact: penalty contact among the objects (docs/contact.md).
+void read_contact(const Field& contact, Scenario& s) {
+  contact.expect_object({"eps_m", "k_n_m", "c_ns_m", "mu", "self", "mu_pairs"});
+  ObjectContact& c = s.contact;
+  c.enabled = true;
+  c.penalty.eps = contact["eps_m"].positive(" [m] (contact threshold)");
+  c.penalty.k = contact["k_n_m"].positive(" [N/m]");
+  c.penalty.c = contact.has("c_ns_m") ? contact["c_ns_m"].non_negative(" [N s/m]") : 0.0;
+  c.penalty.mu = contact.has("mu") ? contact["mu"].non_negative(" (friction coefficient)") : 0.0;
+  if (contact.has("self")) c.self = contact["self"].boolean();
+  if (!contact.has("mu_pairs")) return;
+  std::vector<std::string> names = {s.object_name};
+  for (const ObjectSpec& o : s.objects) names.push_back(o.name);
+  const int n = static_cast<int>(names.size());
+  c.mu.assign(static_cast<std::size_t>(n) * n, c.penalty.mu);
+  const Field pairs = contact["mu_pairs"];
+  if (!pairs.value().is_array()) pairs.fail("an array of {\"a\": object, \"b\": object, \"mu\": x}");
+  for (std::size_t i = 0; i < pairs.value().size(); ++i) {
+    const Field pair = pairs.at(i);
+    pair.expect_object({"a", "b", "mu"});
+    auto index = [&](const char* key) {
+      const Field f = pair[key];
+      const std::string name = f.string();
+      for (int k = 0; k < n; ++k) {
+        if (names[k] == name) return k;
+      }
+      std::string list;
+      for (const std::string& m : names) list += (list.empty() ? "\"" : ", \"") + m + "\"";
+      f.fail("the name of an object of this scenario (" + list + ")");
+    };
+    const int a = index("a"), b = index("b");
+    const double mu = pair["mu"].non_negative(" (friction coefficient)");
+    c.mu[static_cast<std::size_t>(a) * n + b] = mu;
+    c.mu[static_cast<std::size_t>(b) * n + a] = mu;
+  }
+}
+
+// /objects: further objects of the scene.
+void read_objects(const Field& objects, Scenario& s) {
+  if (!objects.value().is_array()) objects.fail("an array of objects");
+  for (std::size_t i = 0; i < objects.value().size(); ++i) {
+    const Field o = objects.at(i);
+    o.expect_object({"name", "mesh", "material", "offset_m", "velocity_m_s"});
+    ObjectSpec spec;
+    spec.name = o["name"].string();
+    if (spec.name == s.object_name) {
+      o["name"].fail("a name no other object has (\"" + s.object_name + "\" is the main object)");
+    }
+    for (const ObjectSpec& other : s.objects) {
+      if (other.name == spec.name) o["name"].fail("a name no other object has");
+    }
+    read_mesh(o["mesh"], spec.block);
+    read_material(o["material"], spec.block);
+    if (spec.block.dim != s.block.dim) {
+      o["mesh"]["dim"].fail("the main object's dimension " + std::to_string(s.block.dim));
+    }
+    if (o.has("offset_m")) spec.offset = o["offset_m"].vec3("offset [m]");
+    if (o.has("velocity_m_s")) spec.velocity = o["velocity_m_s"].vec3("initial velocity [m/s]");
+    s.objects.push_back(spec);
+  }
+}
+
+PenaltyContact read_penalty(const Field& contact) {
+  contact.expect_object({"eps_m", "k_n_m", "c_ns_m", "mu"});
+  PenaltyContact p;
+  p.eps = contact["eps_m"].positive(" [m] (contact threshold)");
+  p.k = contact["k_n_m"].positive(" [N/m]");
+  p.c = contact.has("c_ns_m") ? contact["c_ns_m"].non_negative(" [N s/m]") : 0.0;
+  p.mu = contact.has("mu") ? contact["mu"].non_negative(" (friction coefficient)") : 0.0;
+  return p;
+}
+
+// /tools: rigid tools and their pose histories (sim/tool.hpp).
+void read_tools(const Field& tools, Scenario& s) {
+  if (!tools.value().is_array()) tools.fail("an array of tools");
+  for (std::size_t i = 0; i < tools.value().size(); ++i) {
+    const Field t = tools.at(i);
+    t.expect_object({"name", "shape", "axis", "up", "radius_m", "length_m", "width_m",
+                     "thickness_m", "display_size_m", "contact", "path"});
+    Tool tool;
+    tool.name = t["name"].string();
+    for (const Tool& other : s.tools) {
+      if (other.name == tool.name) t["name"].fail("a name no other tool has");
+    }
+    const std::string shape = t["shape"].one_of({"plane", "sphere", "cylinder", "gripper"});
+    tool.shape = shape == "plane"      ? ToolShape::kPlane
+                 : shape == "sphere"   ? ToolShape::kSphere
+                 : shape == "cylinder" ? ToolShape::kCylinder
+                                       : ToolShape::kGripper;
+    auto direction = [&](const char* key, Vec3& out) {
+      if (!t.has(key)) return;
+      const Field f = t[key];
+      out = f.vec3("direction");
+      if (!(out.norm() > 0.0)) f.fail("a non-zero direction");
+    };
+    direction("axis", tool.axis);
+    direction("up", tool.up);
+    auto size = [&](const char* key, double& out, bool needed) {
+      if (needed || t.has(key)) out = t[key].positive(" [m]");
+    };
+    const bool round = tool.shape == ToolShape::kSphere || tool.shape == ToolShape::kCylinder;
+    const bool long_ = tool.shape == ToolShape::kCylinder || tool.shape == ToolShape::kGripper;
+    const bool grip = tool.shape == ToolShape::kGripper;
+    size("radius_m", tool.radius, round);
+    size("length_m", tool.length, long_);
+    size("width_m", tool.width, grip);
+    size("thickness_m", tool.thickness, grip);
+    if (t.has("display_size_m")) tool.display_size = t["display_size_m"].positive(" [m]");
+    if (grip && std::abs(tool.up.normalized().dot(tool.axis.normalized())) > 1e-6) {
+      t["up"].fail("a direction perpendicular to /axis (the fingers' length)");
+    }
+    tool.contact = read_penalty(t["contact"]);
+    const Field path = t["path"];
+    path.expect_object({"t_s", "position_m", "q"});
+    ToolPath tp;
+    const Field tf = path["t_s"];
+    tp.t = tf.number_array("times [s]");
+    for (std::size_t k = 1; k < tp.t.size(); ++k) {
+      if (!(tp.t[k] > tp.t[k - 1])) tf.at(k).fail("strictly increasing times");
+    }
+    const Field pos = path["position_m"];
+    if (!pos.value().is_array() || pos.value().size() != tp.t.size()) {
+      pos.fail("an array of " + std::to_string(tp.t.size()) + " positions [x, y, z] (one per t_s)");
+    }
+    tp.pose.resize(tp.t.size());
+    for (std::size_t k = 0; k < tp.t.size(); ++k) tp.pose[k].position = pos.at(k).vec3("position [m]");
+    if (path.has("q")) {
+      const Field qf = path["q"];
+      const std::vector<double> q = qf.number_array(grip ? "openings [m]" : "angles [rad]");
+      if (q.size() != tp.t.size()) qf.fail("one value per t_s (" + std::to_string(tp.t.size()) + ")");
+      for (std::size_t k = 0; k < q.size(); ++k) {
+        if (grip && !(q[k] > 0.0)) qf.at(k).fail("a positive opening [m]");
+        tp.pose[k].q = q[k];
+      }
+    } else if (grip) {
+      path["q"];  // the gripper's opening is required: reports it missing
+    }
+    s.tools.push_back(tool);
+    s.tool_paths.push_back(tp);
   }
 }
 
@@ -416,7 +573,8 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
   }
   const Field top(file, root, "");
   top.expect_object({"name", "description", "mesh", "material", "topology_maintenance",
-                     "integrator", "protocol", "output", "duration_s"});
+                     "integrator", "protocol", "output", "duration_s", "object_name",
+                     "velocity_m_s", "objects", "contact", "tools"});
   Scenario s;
   s.name = top["name"].string();
   if (top.has("description")) s.description = top["description"].string();
@@ -425,13 +583,78 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
   if (top.has("topology_maintenance")) read_topology(top["topology_maintenance"], s.block);
   read_integrator(top["integrator"], s);
   read_protocol(top["protocol"], s);
+  if (top.has("object_name")) s.object_name = top["object_name"].string();
+  if (top.has("velocity_m_s")) s.velocity = top["velocity_m_s"].vec3("initial velocity [m/s]");
+  if (top.has("objects")) read_objects(top["objects"], s);
+  for (ObjectSpec& o : s.objects) o.block.mass_scale = s.block.mass_scale;
+  if (top.has("contact")) read_contact(top["contact"], s);
+  if (top.has("tools")) read_tools(top["tools"], s);
   if (top.has("output")) read_output(top["output"], s);
   if (top.has("duration_s")) s.duration_s = top["duration_s"].positive(" [s]");
+  if (!s.plate && !top.has("duration_s")) {
+    top["duration_s"];  // no plate protocol to take the run length from: reports it missing
+  }
   return s;
 }
 
 Model Scenario::build_model() const {
   Model model = make_block(block);
+  if (!plate) {
+    for (std::uint8_t& f : model.flags) {
+      if (f == kPlate) f = kFree;
+    }
+  }
+  const bool moving = velocity != Vec3::Zero() ||
+                      std::any_of(objects.begin(), objects.end(),
+                                  [](const ObjectSpec& o) { return o.velocity != Vec3::Zero(); });
+  if (!objects.empty() || moving) {
+    model.object.assign(model.x0.size(), 0);
+    model.object_names = {object_name};
+    model.v0.assign(model.x0.size(), velocity);
+  }
+  for (const ObjectSpec& o : objects) {
+    Model part = make_block(o.block);
+    const int first = model.num_particles();
+    const int material = static_cast<int>(model.materials.size());
+    const int id = static_cast<int>(model.object_names.size());
+    model.object_names.push_back(o.name);
+    for (int i = 0; i < part.num_particles(); ++i) {
+      model.x0.push_back(part.x0[i] + o.offset);
+      model.v0.push_back(o.velocity);
+      model.mass.push_back(part.mass[i]);
+      // Only the main object is under the plate.
+      model.flags.push_back(part.flags[i] == kPlate ? std::uint8_t(kFree) : part.flags[i]);
+      model.object.push_back(id);
+    }
+    for (Edge e : part.edges) {
+      e.s += first;
+      e.e += first;
+      e.material += material;
+      model.edges.push_back(e);
+    }
+    model.materials.insert(model.materials.end(), part.materials.begin(), part.materials.end());
+    for (auto t : part.triangles) {
+      for (int& v : t) v += first;
+      model.triangles.push_back(t);
+    }
+    for (auto t : part.tetrahedra) {
+      for (int& v : t) v += first;
+      model.tetrahedra.push_back(t);
+    }
+    // One model holds one set of element forces: the main object's.
+    if (o.block.volume.enabled != block.volume.enabled ||
+        o.block.topology.enabled != block.topology.enabled) {
+      throw Error("scenario " + name + ": object \"" + o.name + "\" must have the main object's "
+                  "volume and topology forces (on or off) in this version");
+    }
+  }
+  if (!objects.empty()) {
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : model.x0) box.extend(p);
+    model.size = box.sizes().maxCoeff();
+  }
+  model.contact = contact;
+  model.tools = tools;
   // Mass scaling slows the inertia (m/c) down to where explicit steps are affordable, but
   // the weight of the object must stay physical: gravity is divided by the same factor,
   // so that m * g, and with it the load on the plate, is what the real object has.
@@ -441,8 +664,18 @@ Model Scenario::build_model() const {
   return model;
 }
 
+std::vector<ToolPose> Scenario::tool_poses(long long step) const {
+  std::vector<ToolPose> poses;
+  poses.reserve(tool_paths.size());
+  for (const ToolPath& p : tool_paths) poses.push_back(p.at(step * options.dt));
+  return poses;
+}
+
 int Scenario::default_steps() const {
-  const double duration = duration_s > 0.0 ? duration_s : protocol.duration();
+  double duration = duration_s > 0.0 ? duration_s : protocol.duration();
+  if (!(duration_s > 0.0)) {
+    for (const ToolPath& p : tool_paths) duration = std::max(duration, p.t.back());
+  }
   const double steps = std::ceil(duration / options.dt - 1e-9);
   if (!(steps >= 1.0) || steps > std::numeric_limits<int>::max()) {
     throw Error("scenario " + name + ": duration " + std::to_string(duration) + " s with dt " +

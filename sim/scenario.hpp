@@ -18,18 +18,38 @@ struct OutputSettings {
   double csv_interval_s = 0.0;  // time between CSV rows (0: every step)
 };
 
+// A further object of a scene (docs/contact.md): its mesh and material like the main
+// object's, moved by `offset` and started with `velocity`.
+struct ObjectSpec {
+  std::string name;
+  BlockSpec block;
+  Vec3 offset = Vec3::Zero();    // [m] added to every particle's position
+  Vec3 velocity = Vec3::Zero();  // [m/s] initial velocity of every particle
+};
+
 struct Scenario {
   std::string name;
   std::string description;
-  BlockSpec block;         // mesh and material
+  BlockSpec block;         // mesh and material of the main object (object 0)
+  std::string object_name = "object";
+  Vec3 velocity = Vec3::Zero();      // initial velocity of the main object [m/s]
+  std::vector<ObjectSpec> objects;   // further objects (/objects)
+  ObjectContact contact;             // contact among the objects (/contact)
+  std::vector<Tool> tools;           // rigid tools (/tools) and their pose histories
+  std::vector<ToolPath> tool_paths;
+  bool plate = true;                 // false: /protocol/type "none" (no plate in the scene)
   SimOptions options;      // dt, integrator
   PlateProtocol protocol;  // plate displacement history
   PlateContact plate_contact = PlateContact::kPenetration;  // /protocol/plate_contact
   OutputSettings output;
   double duration_s = 0.0;  // default run length (protocol duration if 0)
 
-  Model build_model() const;  // make_block(block) (+ validate)
+  // make_block(block), the further objects appended (particle, edge, material and element
+  // indices offset), contact and tools (+ validate).
+  Model build_model() const;
   int default_steps() const;  // duration / dt
+  // Every tool's pose after `step` steps (from its path; time from the step count).
+  std::vector<ToolPose> tool_poses(long long step) const;
 
   // The plate after `step` steps: displacement [mm] from first contact and height [m] above
   // the floor (the model's top minus the displacement). Time comes from the step count, not

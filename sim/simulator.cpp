@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -103,8 +104,18 @@ double max_stable_dt(const Model& model, Integrator integrator) {
       }
     }
   }
+  // Contact springs (docs/contact.md): every tool's and the object contact's k and c, on any
+  // particle that may touch them (counted as if each touched at once).
+  double contact_k = model.contact.enabled ? model.contact.penalty.k : 0.0;
+  double contact_c = model.contact.enabled ? model.contact.penalty.c : 0.0;
+  for (const Tool& t : model.tools) {
+    contact_k += t.contact.k;
+    contact_c += t.contact.c;
+  }
   for (int i = 0; i < n; ++i) {
     if (is_fixed_particle(model.flags[i])) continue;
+    stiffness[i] += contact_k;
+    damping[i] += contact_c;
     // Block Gershgorin: the largest eigenvalue of M^-1 K is at most 2 K_i / m_i.
     const double a = 2.0 * stiffness[i] / model.mass[i];
     const double b = 2.0 * damping[i] / model.mass[i];
@@ -173,6 +184,10 @@ Simulator::Simulator(Model model, SimOptions options)
       topology_pairs_.push_back(pair);
     }
   }
+  if (model_.contact.enabled) contact_ = std::make_unique<ContactDetector>(model_);
+  tool_before_.resize(model_.tools.size());
+  tool_now_.resize(model_.tools.size());
+  reactions_.resize(model_.tools.size());
   force_.resize(model_.num_particles());
   held_.assign(model_.num_particles(), 0);
   ddot_.resize(model_.num_edges());
@@ -219,6 +234,51 @@ void Simulator::compute_forces(const State& s, std::vector<Vec3>& f, std::vector
   add_edge_forces<double, Vec3>(model_, s.x.data(), s.v.data(), a, lead, f.data());
   if (model_.topology.enabled) add_topology_forces(s, f);
   if (model_.volume.enabled) add_volume_forces(s, f);
+  add_contact_forces(s, f, lengths != nullptr);
+}
+
+void Simulator::set_tool_poses(std::span<const ToolPose> poses) {
+  if (poses.size() != model_.tools.size()) {
+    throw Error("tool poses: " + std::to_string(poses.size()) + " given, the model has " +
+                std::to_string(model_.tools.size()) + " tools");
+  }
+  for (std::size_t t = 0; t < poses.size(); ++t) {
+    if (!poses[t].position.allFinite() || !std::isfinite(poses[t].q)) {
+      throw Error("tool poses: the pose of tool " + std::to_string(t) + " (\"" +
+                  model_.tools[t].name + "\") is not finite");
+    }
+  }
+  tool_now_.assign(poses.begin(), poses.end());
+  // The first pose ever given: the tool was there before (it starts at rest).
+  if (!tools_posed_) tool_before_ = tool_now_;
+  tools_posed_ = true;
+}
+
+void Simulator::add_contact_forces(const State& s, std::vector<Vec3>& f, bool record) const {
+  if (contact_) {
+    const int touching = contact_->add_forces(model_, s.x, s.v, options_.dt, f);
+    if (record) object_contacts_ = touching;
+  }
+  if (model_.tools.empty()) return;
+  if (record) std::fill(reactions_.begin(), reactions_.end(), ToolReaction{});
+  const int n = model_.num_particles();
+  for (std::size_t t = 0; t < model_.tools.size(); ++t) {
+    const Tool& tool = model_.tools[t];
+    for (int i = 0; i < n; ++i) {
+      if (is_fixed_particle(model_.flags[i])) continue;
+      Vec3 force, torque;
+      if (!tool_particle_contact(tool, tool_before_[t], tool_now_[t], options_.dt, s.x[i], s.v[i],
+                                 model_.mass[i], force, torque)) {
+        continue;
+      }
+      f[i] += force;
+      if (record) {
+        reactions_[t].force -= force;
+        reactions_[t].torque += torque;
+        ++reactions_[t].contacts;
+      }
+    }
+  }
 }
 
 void Simulator::add_topology_forces(const State& s, std::vector<Vec3>& f) const {
@@ -266,8 +326,14 @@ void Simulator::add_volume_forces(const State& s, std::vector<Vec3>& f) const {
 }
 
 StepReport Simulator::step(double plate_z) {
+  if (!model_.tools.empty() && !tools_posed_) {
+    throw Error("the model has " + std::to_string(model_.tools.size()) +
+                " tools: give their poses (set_tool_poses) before the first step");
+  }
   StepReport report =
       options_.integrator == Integrator::kRK4 ? step_rk4(plate_z) : step_sie(plate_z);
+  report.object_contacts = object_contacts_;
+  tool_before_ = tool_now_;
   ++steps_;
   state_.t += options_.dt;
   check_finite_state(model_, state_, steps_);

@@ -3,6 +3,8 @@
 // this class holds storage and the time loop only.
 #pragma once
 
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,7 @@ struct StepReport {
   double plate_force_N = 0.0;
   double plate_z = 0.0;
   int contacts = 0;
+  int object_contacts = 0;  // vertex-face contacts among the objects (docs/contact.md)
 };
 
 // Largest dt for which the explicit integrator is stable on this model. Conservative
@@ -106,6 +109,14 @@ class Simulator {
   // examples); an empty vector means none.
   void set_external_force(std::vector<Vec3> force);
 
+  // Tools (Model::tools): their poses for the next step, one per tool. The tool's velocity
+  // in that step is its pose change since the previous step over dt (the first pose given:
+  // at rest). Must be given before the first step of a model with tools; a pose stays until
+  // replaced. Throws rheo::Error on a wrong count or a non-finite pose.
+  void set_tool_poses(std::span<const ToolPose> poses);
+  // The reaction on each tool in the last step (force and torque the object exerts on it).
+  const std::vector<ToolReaction>& tool_reactions() const { return reactions_; }
+
   // Number of steps taken so far.
   long long steps() const { return steps_; }
 
@@ -125,6 +136,8 @@ class Simulator {
                       std::vector<double>* lengths, double lead = 0.0) const;
   void add_topology_forces(const State& s, std::vector<Vec3>& f) const;
   void add_volume_forces(const State& s, std::vector<Vec3>& f) const;
+  // Object and tool contact forces; `record`: this evaluation's reactions are the step's.
+  void add_contact_forces(const State& s, std::vector<Vec3>& f, bool record) const;
   double element_volume(const std::vector<Vec3>& x, std::size_t element) const;
   StepReport step_sie(double plate_z);
   StepReport step_rk4(double plate_z);
@@ -141,6 +154,12 @@ class Simulator {
   std::vector<double> rest_volume_;  // signed rest area (2D) / volume (3D) per element
   std::vector<std::uint8_t> held_;   // 1 where the plate held the particle in the last step
   long long steps_ = 0;
+  // Contact (null without object contact); its grid is scratch, rebuilt every evaluation.
+  std::unique_ptr<ContactDetector> contact_;
+  std::vector<ToolPose> tool_before_, tool_now_;
+  bool tools_posed_ = false;
+  mutable std::vector<ToolReaction> reactions_;
+  mutable int object_contacts_ = 0;
   int spectrum_stride_ = 0;  // spectrum states per edge (State::spectrum)
   // Scratch buffers reused every step (no allocation in the time loop).
   std::vector<Vec3> force_;

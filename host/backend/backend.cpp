@@ -4,6 +4,11 @@
 
 namespace rheo::backend {
 
+std::vector<double> Backend::run_tools(std::span<const double>, std::span<const ToolPose>,
+                                       std::vector<ToolReaction>&) {
+  throw Error("backend " + name() + " does not compute tools (docs/contact.md)");
+}
+
 const std::vector<Registration>& registry() {
   // The device factory takes the spec itself (it knows bittrue, rtl and remote:PATH).
   static const std::vector<Registration> kRegistry = {

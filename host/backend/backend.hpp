@@ -72,6 +72,13 @@ class Backend {
   // One step per plate height [m]; the plate force [N] of each step. Throws rheo::Error on
   // numerical trouble (non-finite state, fixed-point overflow flags).
   virtual std::vector<double> run(std::span<const double> plate_z) = 0;
+  // The same for a model with tools (Model::tools, docs/contact.md): `poses` holds every
+  // tool's pose for each step (plate_z.size() x tools, step after step); `reactions`
+  // receives the reaction on every tool at every step in the same layout. A backend that
+  // does not compute tools refuses such a model in load(); this default throws.
+  virtual std::vector<double> run_tools(std::span<const double> plate_z,
+                                        std::span<const ToolPose> poses,
+                                        std::vector<ToolReaction>& reactions);
   // The state after the last step: positions, velocities, Voigt lengths and arm extensions
   // (what the backend holds; a relaxation spectrum only where it computes one).
   virtual State state() = 0;

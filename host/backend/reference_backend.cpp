@@ -49,6 +49,30 @@ class ReferenceBackend : public Backend {
     return force;
   }
 
+  std::vector<double> run_tools(std::span<const double> plate_z, std::span<const ToolPose> poses,
+                                std::vector<ToolReaction>& reactions) override {
+    if (!scalar_ && !fast_) throw Error("reference backend: no model loaded");
+    if (fast_) return Backend::run_tools(plate_z, poses, reactions);  // the fast path refuses tools
+    const std::size_t tools = scalar_->model().tools.size();
+    if (poses.size() != plate_z.size() * tools) {
+      throw Error("reference backend: " + std::to_string(poses.size()) + " tool poses for " +
+                  std::to_string(plate_z.size()) + " steps of " + std::to_string(tools) +
+                  " tools; expected one pose per tool and step");
+    }
+    std::vector<double> force;
+    force.reserve(plate_z.size());
+    reactions.clear();
+    reactions.reserve(poses.size());
+    cached_ = false;
+    for (std::size_t i = 0; i < plate_z.size(); ++i) {
+      scalar_->set_tool_poses(poses.subspan(i * tools, tools));
+      force.push_back(scalar_->step(plate_z[i]).plate_force_N);
+      const std::vector<ToolReaction>& r = scalar_->tool_reactions();
+      reactions.insert(reactions.end(), r.begin(), r.end());
+    }
+    return force;
+  }
+
   State state() override {
     const State* s = resident_state();
     if (!s) throw Error("reference backend: no model loaded");

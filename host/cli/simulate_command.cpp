@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <fstream>
 #include <cstdio>
 #include <iostream>
 #include <limits>
@@ -195,7 +196,85 @@ void run_simulate(const SimulateArgs& args) {
       {"edges", std::to_string(model.num_edges())},
   };
   output::ForceCsvWriter csv(dir + "/force.csv", specimen, extra, time_decimals(csv_interval));
-  output::VtkSeriesWriter vtk(model, dir);
+  output::FrameContent content;
+  content.plate = scenario.plate;
+  output::VtkSeriesWriter vtk(model, dir, content);
+  // Tools: their poses per step from the scenario, their reactions into tools.csv and the
+  // VTK frames.
+  const std::size_t tools = model.tools.size();
+  std::unique_ptr<std::ofstream> tool_csv;
+  std::vector<ToolReaction> reactions, last_reactions(tools);
+  std::vector<std::pair<double, double>> tool_peak(tools, {0.0, 0.0});  // |F| [N], t [s]
+  auto tool_frames = [&](long long step) {
+    std::vector<output::ToolFrame> frames;
+    const std::vector<ToolPose> poses = scenario.tool_poses(step);
+    for (std::size_t k = 0; k < tools; ++k) {
+      frames.push_back({model.tools[k].name, tool_surface(model.tools[k], poses[k], model.size),
+                        last_reactions[k]});
+    }
+    return frames;
+  };
+  if (tools > 0) {
+    tool_csv = std::make_unique<std::ofstream>(dir + "/tools.csv");
+    *tool_csv << "# rheo-tools: 1\n# scenario: " << scenario.name
+              << "\n# reaction of the objects on each tool (force [N], torque about the tool's "
+                 "position [N m]), pose (position [m], q: roller angle [rad] or gripper opening "
+                 "[m]) and particles in contact, every step\ntime_s";
+    for (const Tool& tool : model.tools) {
+      for (const char* c : {"fx_N", "fy_N", "fz_N", "tx_N_m", "ty_N_m", "tz_N_m", "x_m", "y_m",
+                            "z_m", "q", "contacts"}) {
+        *tool_csv << "," << tool.name << "_" << c;
+      }
+    }
+    *tool_csv << "\n";
+  }
+  // Several objects: each one's centre of mass and mean velocity, on the CSV rows whose
+  // state the backend gives.
+  const int objects = static_cast<int>(model.object_names.size());
+  std::unique_ptr<std::ofstream> object_csv;
+  if (objects > 1) {
+    object_csv = std::make_unique<std::ofstream>(dir + "/objects.csv");
+    *object_csv << "# rheo-objects: 1\n# scenario: " << scenario.name
+                << "\n# centre of mass [m] and its velocity [m/s] of each object\ntime_s";
+    for (const std::string& name : model.object_names) {
+      for (const char* c : {"x_m", "y_m", "z_m", "vx_m_s", "vy_m_s", "vz_m_s"}) {
+        *object_csv << "," << name << "_" << c;
+      }
+    }
+    *object_csv << "\n";
+  }
+  auto write_object_row = [&](double t, const State& state) {
+    if (!object_csv) return;
+    std::vector<Vec3> x(objects, Vec3::Zero()), v(objects, Vec3::Zero());
+    std::vector<double> m(objects, 0.0);
+    for (int i = 0; i < model.num_particles(); ++i) {
+      const int k = model.object[i];
+      x[k] += model.mass[i] * state.x[i];
+      v[k] += model.mass[i] * state.v[i];
+      m[k] += model.mass[i];
+    }
+    *object_csv << format(t, "%.9g");
+    for (int k = 0; k < objects; ++k) {
+      for (int c = 0; c < 3; ++c) *object_csv << "," << format(x[k][c] / m[k], "%.9g");
+      for (int c = 0; c < 3; ++c) *object_csv << "," << format(v[k][c] / m[k], "%.9g");
+    }
+    *object_csv << "\n";
+  };
+  auto write_tool_row = [&](long long step) {
+    if (!tool_csv) return;
+    const std::vector<ToolPose> poses = scenario.tool_poses(step);
+    *tool_csv << format(step * dt, "%.9g");
+    for (std::size_t k = 0; k < tools; ++k) {
+      const ToolReaction& r = last_reactions[k];
+      for (double v : {r.force.x(), r.force.y(), r.force.z(), r.torque.x(), r.torque.y(),
+                       r.torque.z(), poses[k].position.x(), poses[k].position.y(),
+                       poses[k].position.z(), poses[k].q}) {
+        *tool_csv << "," << format(v, "%.9g");
+      }
+      *tool_csv << "," << r.contacts;
+    }
+    *tool_csv << "\n";
+  };
   auto plate_frame = [&](double plate_mm, double force_N) {
     return output::PlateFrame{model.height - plate_mm * 1e-3, plate_mm * 1e-3, force_N};
   };
@@ -203,7 +282,10 @@ void run_simulate(const SimulateArgs& args) {
   // The first row and frame: the object at rest before the plate moves.
   csv.write_row(0.0, scenario.protocol.displacement_mm(0.0), 0.0,
                 surface_displacement_mm(model, start_state, centre));
-  vtk.write_frame(start_state, plate_frame(scenario.protocol.displacement_mm(0.0), 0.0));
+  vtk.write_frame(start_state, plate_frame(scenario.protocol.displacement_mm(0.0), 0.0),
+                  tool_frames(0));
+  write_tool_row(0);
+  write_object_row(0.0, start_state);
 
   InterruptGuard interrupt_guard;
   Progress progress("step", steps, progress_enabled(args.quiet));
@@ -216,6 +298,7 @@ void run_simulate(const SimulateArgs& args) {
   const auto start = Clock::now();
   // One step's result, whatever computed it: the CSV row, the VTK frame and the progress.
   // `state` is null on steps whose state the backend was not asked for.
+  long long done_before = 0;  // steps before the current batch
   auto record = [&](long long i, double plate_mm, double force_N, const State* state) {
     const double t = i * dt;
     if (!std::isfinite(force_N)) {
@@ -224,15 +307,30 @@ void run_simulate(const SimulateArgs& args) {
     }
     const double surface = state ? surface_displacement_mm(model, *state, centre)
                                  : std::numeric_limits<double>::quiet_NaN();
+    if (tools > 0) {
+      const std::size_t at = static_cast<std::size_t>(i - done_before - 1) * tools;
+      std::copy(reactions.begin() + static_cast<std::ptrdiff_t>(at),
+                reactions.begin() + static_cast<std::ptrdiff_t>(at + tools), last_reactions.begin());
+      for (std::size_t k = 0; k < tools; ++k) {
+        const double f = last_reactions[k].force.norm();
+        if (!std::isfinite(f)) {
+          throw Error("non-finite reaction on tool " + model.tools[k].name + " at step " +
+                      std::to_string(i) + ": the run is numerically unstable");
+        }
+        if (f > tool_peak[k].first) tool_peak[k] = {f, t};
+      }
+      write_tool_row(i);
+    }
     figures.add(t, force_N, surface);
     if (t >= next_csv - slack || i == steps) {
       // A backend that keeps no state in host memory is read only at the frames; surface_mm
       // stays empty (docs/data-format.md) on the rows in between.
       csv.write_row(t, plate_mm, force_N, surface);
+      if (state) write_object_row(t, *state);
       while (next_csv <= t + slack) next_csv += csv_interval;
     }
     if (state && (t >= next_vtk - slack || i == steps)) {
-      vtk.write_frame(*state, plate_frame(plate_mm, force_N));
+      vtk.write_frame(*state, plate_frame(plate_mm, force_N), tool_frames(i));
       while (next_vtk <= t + slack) next_vtk += vtk_interval;
     }
     if (g_interrupted) throw Error("interrupted at step " + std::to_string(i) + "; no output kept");
@@ -243,13 +341,23 @@ void run_simulate(const SimulateArgs& args) {
   // CSV row where the state costs nothing to look at (the reference).
   const bool resident = engine->resident_state() != nullptr;
   std::vector<double> plate_z;
+  std::vector<ToolPose> poses;
   long long done = 0;
   while (done < steps) {
     long long end = std::min({steps, done + kMaxBatchSteps, first_step_at(next_vtk, dt, done)});
     if (resident) end = std::min(end, first_step_at(next_csv, dt, done));
     plate_z.clear();
-    for (long long i = done + 1; i <= end; ++i) plate_z.push_back(scenario.plate_z(model, i));
-    const std::vector<double> force = engine->run(plate_z);
+    poses.clear();
+    for (long long i = done + 1; i <= end; ++i) {
+      plate_z.push_back(scenario.plate_z(model, i));
+      if (tools > 0) {
+        const std::vector<ToolPose> p = scenario.tool_poses(i);
+        poses.insert(poses.end(), p.begin(), p.end());
+      }
+    }
+    const std::vector<double> force =
+        tools > 0 ? engine->run_tools(plate_z, poses, reactions) : engine->run(plate_z);
+    done_before = done;
     const bool frame_due = end == steps || end * dt >= next_vtk - slack;
     State read_back;
     const State* end_state = engine->resident_state();
@@ -267,6 +375,14 @@ void run_simulate(const SimulateArgs& args) {
   const double wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   csv.close();
   vtk.close();
+  if (object_csv) {
+    object_csv->close();
+    if (!*object_csv) throw Error(dir + "/objects.csv: writing failed (disk full?)");
+  }
+  if (tool_csv) {
+    tool_csv->close();
+    if (!*tool_csv) throw Error(dir + "/tools.csv: writing failed (disk full?)");
+  }
 
   if (!args.no_plot) {
     output::plot_force_csv({dir, "force.csv", csv.header_lines(), "plot.gp", "plot.png",
@@ -282,10 +398,26 @@ void run_simulate(const SimulateArgs& args) {
   if (engine_info.contains("cpu_path")) {
     std::cout << "  computed on the " << engine_info["cpu_path"].get<std::string>() << "\n";
   }
-  for (const std::string& line : figures.lines()) std::cout << "  " << line << "\n";
+  // The plate's phases and forces; a scene without a plate has none to tell.
+  if (scenario.plate) {
+    for (const std::string& line : figures.lines()) std::cout << "  " << line << "\n";
+  }
+  for (std::size_t k = 0; k < tools; ++k) {
+    std::cout << "  tool " << model.tools[k].name << ": largest reaction "
+              << format(tool_peak[k].first, "%.4g") << " N at t = " << format(tool_peak[k].second, "%.4g")
+              << " s\n";
+  }
   std::cout << "  force CSV:  " << target << "/force.csv\n"
             << "  VTK series: " << target << "/mesh.pvd (" << vtk.frames() << " frames in "
             << target << "/vtk/, open the .pvd in ParaView)\n";
+  if (objects > 1) {
+    std::cout << "  objects:    " << target << "/objects.csv (centre of mass and velocity of "
+              << objects << " objects)\n";
+  }
+  if (tools > 0) {
+    std::cout << "  tools CSV:  " << target << "/tools.csv (reaction force and torque on "
+              << tools << " tool" << (tools == 1 ? "" : "s") << " every step)\n";
+  }
   if (const std::vector<std::string> absent = vtk.absent_arrays(); !absent.empty()) {
     std::cout << "  VTK note:   no";
     for (std::size_t i = 0; i < absent.size(); ++i) std::cout << (i ? ", " : " ") << absent[i];

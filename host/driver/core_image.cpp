@@ -400,6 +400,17 @@ const hls::EdgeElement& edge_element_for(const Model& model) {
 
 Model hardware_model(const Model& model, std::vector<std::string>* dropped,
                      const hls::EdgeElement& element) {
+  // Contact changes the object's motion everywhere: a core that left it out would simulate
+  // another scene, so it is refused, never dropped (docs/hardware.md, "Contact and tools").
+  if (model.contact.enabled) {
+    throw Error("the model has contact among objects, which the cores do not compute "
+                "(docs/hardware.md, \"Contact and tools\"); run it on --backend ref");
+  }
+  if (!model.tools.empty()) {
+    throw Error("the model has " + std::to_string(model.tools.size()) +
+                " tools, whose contact the cores do not compute yet (docs/hardware.md, "
+                "\"Contact and tools\"); run it on --backend ref");
+  }
   Model hw = model;
   std::vector<std::string> notes;
   for (std::size_t i = 0; i < hw.materials.size(); ++i) {

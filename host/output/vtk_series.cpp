@@ -113,6 +113,55 @@ struct VtkSeriesWriter::Piece {
   std::vector<std::string> comments;  // XML comments (what the file holds and lacks)
 };
 
+namespace {
+
+// The tuples of `a` at `index` (a has `count` tuples of equal size).
+Array select_tuples(const Array& a, std::size_t count, const std::vector<int>& index) {
+  Array out{a.type, a.name, a.components, std::string()};
+  if (count == 0) return out;
+  const std::size_t size = a.bytes.size() / count;
+  out.bytes.reserve(index.size() * size);
+  for (int i : index) out.bytes.append(a.bytes, static_cast<std::size_t>(i) * size, size);
+  return out;
+}
+
+}  // namespace
+
+VtkSeriesWriter::Piece VtkSeriesWriter::object_part(const Piece& all, int object) const {
+  // Cells whose first corner belongs to the object (edges and elements never join two
+  // objects), and the object's particles renumbered.
+  Piece part;
+  part.comments = all.comments;
+  std::vector<int> point_index, cell_index, renumber(all.points.size(), -1);
+  for (std::size_t i = 0; i < all.points.size(); ++i) {
+    if (model_.object[i] != object) continue;
+    renumber[i] = static_cast<int>(point_index.size());
+    point_index.push_back(static_cast<int>(i));
+    part.points.push_back(all.points[i]);
+  }
+  std::vector<std::int32_t> conn, offs;
+  std::vector<std::uint8_t> types;
+  for (int c = 0; c < static_cast<int>(types_.size()); ++c) {
+    const int first = c == 0 ? 0 : offsets_[c - 1];
+    if (renumber[connectivity_[first]] < 0) continue;
+    cell_index.push_back(c);
+    for (int j = first; j < offsets_[c]; ++j) conn.push_back(renumber[connectivity_[j]]);
+    offs.push_back(static_cast<std::int32_t>(conn.size()));
+    types.push_back(types_[c]);
+  }
+  part.cells = static_cast<int>(cell_index.size());
+  for (const Array& a : all.point_data) {
+    part.point_data.push_back(select_tuples(a, all.points.size(), point_index));
+  }
+  for (const Array& a : all.cell_data) {
+    part.cell_data.push_back(select_tuples(a, static_cast<std::size_t>(all.cells), cell_index));
+  }
+  part.connectivity = make_array("Int32", "connectivity", 1, conn);
+  part.offsets = make_array("Int32", "offsets", 1, offs);
+  part.types = make_array("UInt8", "types", 1, types);
+  return part;
+}
+
 VtkSeriesWriter::VtkSeriesWriter(const Model& model, std::string dir, FrameContent content)
     : model_(model), dir_(std::move(dir)), content_(std::move(content)) {
   std::error_code ec;
@@ -296,7 +345,7 @@ void VtkSeriesWriter::build_cells() {
   if (top.empty()) {
     for (int i = 0; i < n; ++i) top.push_back(i);
   }
-  if (top.empty()) return;
+  if (top.empty() || !content_.plate) return;
   const double margin = 0.1 * size;
   if (dim == 3) {
     double xl = 1e300, xh = -1e300, yl = 1e300, yh = -1e300;
@@ -344,7 +393,8 @@ std::vector<std::string> VtkSeriesWriter::absent_arrays() const {
   return absent;
 }
 
-void VtkSeriesWriter::write_frame(const State& state, const PlateFrame& plate) {
+void VtkSeriesWriter::write_frame(const State& state, const PlateFrame& plate,
+                                  const std::vector<ToolFrame>& tools) {
   const Model& model = model_;
   const int n = model.num_particles();
   const int ne = model.num_edges();
@@ -466,7 +516,14 @@ void VtkSeriesWriter::write_frame(const State& state, const PlateFrame& plate) {
   object.offsets = make_array("Int32", "offsets", 1, offsets_);
   object.types = make_array("UInt8", "types", 1, types_);
   object.comments.insert(object.comments.end(), comments.begin(), comments.end());
-  write_piece(std::string("vtk/frame") + suffix, object, t);
+  const int objects = static_cast<int>(model.object_names.size());
+  if (objects <= 1) {
+    write_piece(std::string("vtk/frame") + suffix, object, t);
+  } else {
+    for (int k = 0; k < objects; ++k) {
+      write_piece("vtk/object" + std::to_string(k) + suffix, object_part(object, k), t);
+    }
+  }
 
   // Plate.
   Piece plate_piece;
@@ -489,7 +546,39 @@ void VtkSeriesWriter::write_frame(const State& state, const PlateFrame& plate) {
       float_array("plate_force_N", std::vector<double>(plate_cells, plate.force_N)));
   plate_piece.cell_data.push_back(
       float_array("plate_displacement_m", std::vector<double>(plate_cells, plate.displacement_m)));
-  write_piece(std::string("vtk/plate") + suffix, plate_piece, t);
+  if (content_.plate) write_piece(std::string("vtk/plate") + suffix, plate_piece, t);
+
+  // Tools.
+  if (tools.size() != model.tools.size()) {
+    throw Error("VTK frame at t = " + std::to_string(t) + ": " + std::to_string(tools.size()) +
+                " tool frames for the model's " + std::to_string(model.tools.size()) + " tools");
+  }
+  for (std::size_t k = 0; k < tools.size(); ++k) {
+    const ToolFrame& tf = tools[k];
+    Piece tp;
+    tp.points = tf.surface.points;
+    const int cells_k = static_cast<int>(tf.surface.triangles.size());
+    tp.cells = cells_k;
+    std::vector<std::int32_t> conn, offs;
+    for (const auto& tri : tf.surface.triangles) {
+      conn.insert(conn.end(), tri.begin(), tri.end());
+      offs.push_back(static_cast<std::int32_t>(conn.size()));
+    }
+    tp.connectivity = make_array("Int32", "connectivity", 1, conn);
+    tp.offsets = make_array("Int32", "offsets", 1, offs);
+    tp.types = make_array("UInt8", "types", 1, std::vector<std::uint8_t>(cells_k, kVtkTriangle));
+    tp.cell_data.push_back(
+        vector_array("tool_force_N", std::vector<Vec3>(cells_k, tf.reaction.force)));
+    tp.cell_data.push_back(
+        vector_array("tool_torque_N_m", std::vector<Vec3>(cells_k, tf.reaction.torque)));
+    tp.cell_data.push_back(make_array(
+        "Int32", "tool_contacts", 1, std::vector<std::int32_t>(cells_k, tf.reaction.contacts)));
+    tp.comments.push_back("rheo: tool \"" + tf.name + "\" (" +
+                          tool_shape_name(model.tools[k].shape) +
+                          "); tool_force_N and tool_torque_N_m: the reaction the objects exert "
+                          "on it (torque about its position)");
+    write_piece("vtk/tool" + std::to_string(k) + suffix, tp, t);
+  }
 
   // Edges.
   Piece edges;
@@ -566,6 +655,21 @@ void VtkSeriesWriter::write_piece(const std::string& relative, const Piece& piec
   if (!out) throw Error(path + ": writing failed (disk full?)");
 }
 
+std::vector<std::pair<std::string, std::string>> VtkSeriesWriter::mesh_parts() const {
+  std::vector<std::pair<std::string, std::string>> parts;
+  const int objects = static_cast<int>(model_.object_names.size());
+  if (objects <= 1) {
+    parts.push_back({objects == 1 ? model_.object_names[0] : "object", "frame"});
+  } else {
+    for (int k = 0; k < objects; ++k) parts.push_back({model_.object_names[k], "object" + std::to_string(k)});
+  }
+  if (content_.plate) parts.push_back({"plate", "plate"});
+  for (std::size_t k = 0; k < model_.tools.size(); ++k) {
+    parts.push_back({model_.tools[k].name, "tool" + std::to_string(k)});
+  }
+  return parts;
+}
+
 void VtkSeriesWriter::close() {
   // mesh.pvd: the object and the plate as parts 0 and 1 of each time step (ParaView shows
   // them as two blocks); edges.pvd: the edge lattice on its own.
@@ -588,7 +692,7 @@ void VtkSeriesWriter::close() {
     out.close();
     if (!out) throw Error(path + ": writing failed (disk full?)");
   };
-  write_pvd(pvd_path(), {{"object", "frame"}, {"plate", "plate"}});
+  write_pvd(pvd_path(), mesh_parts());
   write_pvd(edges_pvd_path(), {{"edges", "edges"}});
 }
 

@@ -2,7 +2,12 @@
 // .pvd collections that give each frame its time). Binary "appended raw" data keep the
 // files small (an ASCII block15 series would be hundreds of MB). Layout in `dir`:
 //
-//   mesh.pvd   part 0 "object": vtk/frame_NNNNNN.vtu, part 1 "plate": vtk/plate_NNNNNN.vtu
+//   mesh.pvd   part 0 "object": vtk/frame_NNNNNN.vtu, part 1 "plate": vtk/plate_NNNNNN.vtu;
+//              a scene of several objects (Model::object_names) has one part per object
+//              instead (named after it, vtk/object<K>_NNNNNN.vtu), a scene without a plate
+//              none for it, and every tool (Model::tools) a part of its own (named after it,
+//              vtk/tool<K>_NNNNNN.vtu: its surface as triangles, cell data tool_force_N and
+//              tool_torque_N_m, the reaction on it, and tool_contacts).
 //   edges.pvd  the edge lattice: vtk/edges_NNNNNN.vtu (line cells)
 //
 // Opening mesh.pvd shows the object as cells a viewer can shade, and the plate. The object's
@@ -66,6 +71,14 @@ struct FrameContent {
   // Why arrays are absent (e.g. "the core's Voigt lengths are not read back"): written into
   // every file as an XML comment, so the files say it themselves.
   std::string absent_reason;
+  bool plate = true;  // the scene has a plate (false: no plate part in mesh.pvd)
+};
+
+// A tool in one frame (docs/contact.md): its surface and the reaction on it.
+struct ToolFrame {
+  std::string name;
+  ToolSurface surface;
+  ToolReaction reaction;
 };
 
 // The plate in one frame.
@@ -81,9 +94,10 @@ class VtkSeriesWriter {
   // if the directory cannot be created.
   VtkSeriesWriter(const Model& model, std::string dir, FrameContent content = {});
 
-  // Writes one frame (object, plate, edges) of `state` at state.t. Throws rheo::Error
-  // naming the file if it cannot write.
-  void write_frame(const State& state, const PlateFrame& plate);
+  // Writes one frame (objects, plate, tools, edges) of `state` at state.t. Throws
+  // rheo::Error naming the file if it cannot write. `tools`: one per Model::tools, in order.
+  void write_frame(const State& state, const PlateFrame& plate,
+                   const std::vector<ToolFrame>& tools = {});
 
   // Writes mesh.pvd and edges.pvd listing every frame written so far.
   void close();
@@ -100,6 +114,10 @@ class VtkSeriesWriter {
   struct Piece;
   void build_cells();
   void write_piece(const std::string& relative, const Piece& piece, double t) const;
+  // The cells and particles of one object of a multi-object model.
+  Piece object_part(const Piece& all, int object) const;
+  // The parts of mesh.pvd: (part name, file prefix in vtk/).
+  std::vector<std::pair<std::string, std::string>> mesh_parts() const;
 
   Model model_;
   std::string dir_;

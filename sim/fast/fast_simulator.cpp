@@ -35,6 +35,8 @@ void prefetch(const double* p, int n, bool for_writing) {
 std::string fast_path_refusal(const Model& model, const SimOptions& options) {
   if (options.integrator != Integrator::kSemiImplicitEuler) return "the RK4 integrator";
   if (model.topology.enabled) return "topology maintenance";
+  if (model.contact.enabled) return "contact among objects";
+  if (!model.tools.empty()) return "tools";
   return "";
 }
 
