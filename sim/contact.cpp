@@ -105,6 +105,32 @@ ContactDetector::ContactDetector(const Model& model) : dim_(model.dim) {
   for (int i = 0; i < n; ++i) {
     if (on_surface[i]) vertices_.push_back(i);
   }
+  // Each face's thickness at rest: how far its object reaches behind it, along the inward
+  // normal from its centre to the next face of the same object. A vertex more than half of
+  // it behind the face is nearer the object's other side (or came from there), so the face
+  // does not claim it (a thin object would otherwise pull a vertex from its far side).
+  const int corners = model.dim == 3 ? 3 : 2;
+  auto corner = [&](const std::array<int, 3>& f, int c) { return model.x0[f[c]]; };
+  for (std::size_t k = 0; k < faces_.size(); ++k) {
+    Vec3 centre = Vec3::Zero();
+    for (int c = 0; c < corners; ++c) centre += corner(faces_[k], c) / corners;
+    const Vec3 nk = face_geometry(model.dim, centre, corner(faces_[k], 0), corner(faces_[k], 1),
+                                  corners == 3 ? corner(faces_[k], 2) : Vec3(Vec3::Zero()))
+                        .n;
+    double thickness = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < faces_.size(); ++j) {
+      if (j == k || face_object_[j] != face_object_[k]) continue;
+      const Vec3 a = corner(faces_[j], 0), b = corner(faces_[j], 1);
+      const Vec3 c = corners == 3 ? corner(faces_[j], 2) : Vec3(Vec3::Zero());
+      const FaceGeometry gj = face_geometry(model.dim, centre, a, b, c);
+      const double along = gj.n.dot(nk);
+      if (std::abs(along) < 1e-12) continue;
+      const double t = gj.delta / along;  // centre - t nk lies in face j's plane
+      if (!(t > 1e-12 * model.size) || t >= thickness) continue;
+      if (face_geometry(model.dim, centre - t * nk, a, b, c).foot_inside) thickness = t;
+    }
+    rest_thickness_.push_back(thickness);
+  }
   // Neighbours: joined by an edge or sharing an element.
   std::vector<std::vector<int>> nb(n);
   auto link = [&](int a, int b) {
@@ -155,7 +181,7 @@ int ContactDetector::add_forces(const Model& model, const std::vector<Vec3>& x,
       box.extend(x[faces_[k][c]]);
       edge_sum += (x[faces_[k][c]] - x[faces_[k][(c + 1) % corners]]).norm();
     }
-    depth[k] = std::max(pen.eps, edge_sum / corners);
+    depth[k] = std::min(0.5 * rest_thickness_[k], std::max(pen.eps, edge_sum / corners));
     cell = std::max(cell, box.sizes().maxCoeff() + pen.eps + depth[k]);
   }
   if (!(cell > 0.0) || !std::isfinite(cell)) return 0;

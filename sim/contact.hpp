@@ -58,6 +58,7 @@ class ContactDetector {
   int dim_ = 3;
   std::vector<std::array<int, 3>> faces_;  // 3-D: outward (b-a)x(c-a); 2-D: c = -1
   std::vector<int> face_object_;
+  std::vector<double> rest_thickness_;     // per face: the object's extent behind it at rest
   std::vector<int> vertices_;              // surface particles
   std::vector<int> neighbour_start_, neighbour_;  // CSR, sorted
   std::vector<std::pair<std::uint64_t, int>> cells_;  // (cell key, face), sorted

@@ -574,7 +574,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
   const Field top(file, root, "");
   top.expect_object({"name", "description", "mesh", "material", "topology_maintenance",
                      "integrator", "protocol", "output", "duration_s", "object_name",
-                     "velocity_m_s", "objects", "contact", "tools"});
+                     "velocity_m_s", "objects", "contact", "tools", "floor"});
   Scenario s;
   s.name = top["name"].string();
   if (top.has("description")) s.description = top["description"].string();
@@ -583,6 +583,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
   if (top.has("topology_maintenance")) read_topology(top["topology_maintenance"], s.block);
   read_integrator(top["integrator"], s);
   read_protocol(top["protocol"], s);
+  if (top.has("floor")) s.floor = top["floor"].boolean();
   if (top.has("object_name")) s.object_name = top["object_name"].string();
   if (top.has("velocity_m_s")) s.velocity = top["velocity_m_s"].vec3("initial velocity [m/s]");
   if (top.has("objects")) read_objects(top["objects"], s);
@@ -655,6 +656,7 @@ Model Scenario::build_model() const {
   }
   model.contact = contact;
   model.tools = tools;
+  model.floor = floor;
   // Mass scaling slows the inertia (m/c) down to where explicit steps are affordable, but
   // the weight of the object must stay physical: gravity is divided by the same factor,
   // so that m * g, and with it the load on the plate, is what the real object has.

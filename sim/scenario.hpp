@@ -38,6 +38,7 @@ struct Scenario {
   std::vector<Tool> tools;           // rigid tools (/tools) and their pose histories
   std::vector<ToolPath> tool_paths;
   bool plate = true;                 // false: /protocol/type "none" (no plate in the scene)
+  bool floor = true;                 // the unilateral floor at z = 0 (/floor)
   SimOptions options;      // dt, integrator
   PlateProtocol protocol;  // plate displacement history
   PlateContact plate_contact = PlateContact::kPenetration;  // /protocol/plate_contact
