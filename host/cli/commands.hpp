@@ -14,5 +14,6 @@ void register_cosim(CLI::App& app);
 void register_fixed(CLI::App& app);
 void register_cosim_server(CLI::App& app);
 void register_bench_link(CLI::App& app);
+void register_haptic_server(CLI::App& app);
 
 }  // namespace rheo::cli

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   rheo::cli::register_cosim(app);
   rheo::cli::register_fixed(app);
   rheo::cli::register_cosim_server(app);
+  rheo::cli::register_haptic_server(app);
   rheo::cli::register_bench_link(app);
   try {
     app.parse(argc, argv);

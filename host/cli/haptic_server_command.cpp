@@ -1,0 +1,85 @@
+// `rheo haptic-server --scenario NAME --socket PATH`: a scene with tools stepped one step per
+// client command, the client giving the tools' poses and getting their reactions back, over
+// the link framing (host/haptic/haptic_link.hpp, docs/haptics.md). Serves clients one after
+// another, each with the scene at rest, until one sends shutdown or SIGINT/SIGTERM arrives; a
+// client that disconnects (even mid-step) ends only its own session.
+#include <atomic>
+#include <csignal>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "host/cli/commands.hpp"
+#include "host/driver/link/socket_transport.hpp"
+#include "host/haptic/haptic_link.hpp"
+#include "sim/scenario.hpp"
+
+namespace rheo::cli {
+namespace {
+
+std::atomic<bool> g_haptic_stop{false};
+extern "C" void on_haptic_stop(int) { g_haptic_stop = true; }
+
+struct HapticServerArgs {
+  std::string socket;
+  std::string scenario;
+  std::string backend = "ref";
+  int timeout_ms = 10000;
+  double idle_timeout_s = 60;
+  bool quiet = false;
+};
+
+void run_haptic_server(const HapticServerArgs& args) {
+  const Scenario scenario = load_scenario(args.scenario);
+  link::SocketListener listener(args.socket);
+  g_haptic_stop = false;
+  auto old_int = std::signal(SIGINT, on_haptic_stop);
+  auto old_term = std::signal(SIGTERM, on_haptic_stop);
+  haptic::ServerOptions options;
+  options.backend = args.backend;
+  options.io_timeout = link::Milliseconds(args.timeout_ms);
+  options.idle_timeout = link::Milliseconds(static_cast<long long>(args.idle_timeout_s * 1000.0));
+  options.stop = &g_haptic_stop;
+  if (!args.quiet) {
+    options.log = [](const std::string& line) { std::cerr << "rheo haptic-server: " << line << "\n"; };
+    std::cerr << "rheo haptic-server: " << scenario.name << " on " << args.backend
+              << ", listening on " << args.socket << "\n";
+  }
+  try {
+    haptic::serve(listener, scenario, options);
+  } catch (...) {
+    std::signal(SIGINT, old_int);
+    std::signal(SIGTERM, old_term);
+    throw;
+  }
+  std::signal(SIGINT, old_int);
+  std::signal(SIGTERM, old_term);
+  if (!args.quiet) std::cerr << "rheo haptic-server: stopped\n";
+}
+
+}  // namespace
+
+void register_haptic_server(CLI::App& app) {
+  auto args = std::make_shared<HapticServerArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "haptic-server",
+      "Serve a scene with tools (e.g. press_sphere) behind a Unix-domain socket for a haptic\n"
+      "loop: each client command gives the tools' poses for one step and gets back the\n"
+      "reaction force and torque on each tool (link frames: header, sequence, CRC-32;\n"
+      "docs/haptics.md). Clients are served one after another, each with the scene at rest.");
+  cmd->add_option("--socket", args->socket, "Path of the Unix-domain socket to listen on")->required();
+  cmd->add_option("--scenario", args->scenario, "built-in scenario name or JSON file with /tools")
+      ->required();
+  cmd->add_option("--backend", args->backend,
+                  "what computes the scene: ref (the cores do not compute tools yet)")
+      ->capture_default_str();
+  cmd->add_option("--timeout-ms", args->timeout_ms, "Longest wait for a hello or a begun frame")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--idle-timeout-s", args->idle_timeout_s,
+                  "Drop a client that sends nothing for this many seconds (default 60)")
+      ->check(CLI::Range(0.001, 86400.0));
+  cmd->add_flag("--quiet", args->quiet, "No session log on stderr");
+  cmd->callback([args] { run_haptic_server(*args); });
+}
+
+}  // namespace rheo::cli

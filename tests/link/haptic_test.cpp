@@ -1,0 +1,139 @@
+// The live haptic loop (host/haptic): the library API against the reference simulator, and
+// the server over a socket, including clients that leave in the middle of a step.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <thread>
+#include <unistd.h>
+
+#include "host/driver/link/frame_channel.hpp"
+#include "host/driver/link/link_error.hpp"
+#include "host/driver/link/socket_transport.hpp"
+#include "host/haptic/haptic_link.hpp"
+#include "host/haptic/haptic_session.hpp"
+#include "sim/error.hpp"
+#include "sim/simulator.hpp"
+
+namespace rheo::haptic {
+namespace {
+
+using namespace std::chrono_literals;
+
+ToolPose sphere_at(int step) {
+  // press_sphere's sphere, going down 0.01 mm per step from above the dough.
+  ToolPose p;
+  p.position = Vec3(0.03, 0.03, 0.046 - 1e-5 * step);
+  return p;
+}
+
+TEST(HapticSession, ReactionsAreTheReferenceSimulatorsStepByStep) {
+  const Scenario s = load_scenario("press_sphere");
+  HapticSession session(s);
+  const Model m = s.build_model();
+  Simulator sim(m, s.options);
+  for (int i = 1; i <= 1500; ++i) {
+    const ToolPose p = sphere_at(i);
+    const std::vector<ToolReaction>& r = session.step({&p, 1});
+    sim.set_tool_poses({&p, 1});
+    sim.step(s.plate_z(m, i));
+    ASSERT_EQ(r[0].force, sim.tool_reactions()[0].force) << "step " << i;
+    ASSERT_EQ(r[0].torque, sim.tool_reactions()[0].torque);
+  }
+  EXPECT_GT(session.state().x.size(), 0u);
+  EXPECT_GT(sim.tool_reactions()[0].force.z(), 0.1);  // the sphere is in the dough
+}
+
+TEST(HapticSession, RefusedWithoutToolsOrOnACore) {
+  EXPECT_THROW(HapticSession(load_scenario("block5")), Error);
+  EXPECT_THROW(HapticSession(load_scenario("press_sphere"), "bittrue"), Error);
+  HapticSession session(load_scenario("press_sphere"));
+  const std::vector<ToolPose> none;
+  EXPECT_THROW(session.step(none), Error);
+}
+
+class HapticServerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = (std::filesystem::temp_directory_path() /
+             ("rheo-haptic-test-" + std::to_string(::getpid()) + ".sock"))
+                .string();
+    listener_ = std::make_unique<link::SocketListener>(path_);
+    ServerOptions o;
+    o.stop = &stop_;
+    o.io_timeout = 2000ms;
+    o.log = [this](const std::string& line) {
+      if (line == "client left" || line.rfind("session ended", 0) == 0) ++sessions_ended_;
+    };
+    server_ = std::thread([this, o] { serve(*listener_, load_scenario("press_sphere"), o); });
+  }
+  void TearDown() override {
+    stop_ = true;
+    server_.join();
+  }
+  std::string path_;
+  std::atomic<bool> stop_{false};
+  std::atomic<int> sessions_ended_{0};
+  std::unique_ptr<link::SocketListener> listener_;
+  std::thread server_;
+};
+
+TEST_F(HapticServerTest, StepsOverTheSocketEqualTheLibrary) {
+  HapticClient client(path_, 5000ms);
+  EXPECT_EQ(client.tools(), 1u);
+  EXPECT_EQ(client.dt(), 0.001);
+  HapticSession local(load_scenario("press_sphere"));
+  for (int i = 1; i <= 1500; ++i) {
+    const ToolPose p = sphere_at(i);
+    const StepResult r = client.step({&p, 1});
+    const std::vector<ToolReaction>& l = local.step({&p, 1});
+    ASSERT_EQ(r.reactions[0].force, l[0].force) << "step " << i;
+    ASSERT_EQ(r.reactions[0].contacts, l[0].contacts);
+  }
+  client.close();
+}
+
+TEST_F(HapticServerTest, SurvivesAClientThatLeavesMidStep) {
+  {
+    // A client that sends its hello and one step, then goes away without reading the answer.
+    auto t = link::SocketTransport::connect(path_, 5000ms);
+    link::FrameChannel ch(*t, "server");
+    const std::uint32_t hello[1] = {kHapticProtocol};
+    ch.send_words(link::FrameType::kHello, hello, 1000ms);
+    ch.receive(2000ms);
+    std::vector<std::uint32_t> step(9, 0);
+    step[0] = 1;
+    ch.send_words(link::FrameType::kCommand, step, 1000ms);
+  }
+  {
+    // One that leaves in the middle of a frame.
+    auto t = link::SocketTransport::connect(path_, 5000ms);
+    const std::uint8_t half[6] = {'R', 'H', 'L', 'K', 1, 1};
+    t->send(half, 1000ms);
+  }
+  // The next client is served from the scene at rest.
+  HapticClient client(path_, 5000ms);
+  HapticSession local(load_scenario("press_sphere"));
+  for (int i = 1; i <= 1300; ++i) {
+    const ToolPose p = sphere_at(i);
+    ASSERT_EQ(client.step({&p, 1}).reactions[0].force, local.step({&p, 1})[0].force);
+  }
+  EXPECT_GE(sessions_ended_.load(), 2);
+  client.close();
+}
+
+TEST_F(HapticServerTest, BadPosesEndTheSessionWithAnError) {
+  HapticClient client(path_, 5000ms);
+  ToolPose p = sphere_at(1);
+  p.position.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(client.step({&p, 1}), link::LinkError);
+  // ... and the server is still there for the next one.
+  HapticClient next(path_, 5000ms);
+  const ToolPose q = sphere_at(1);
+  EXPECT_EQ(next.step({&q, 1}).reactions.size(), 1u);
+  next.close();
+}
+
+}  // namespace
+}  // namespace rheo::haptic
