@@ -6,6 +6,7 @@
 #include <limits>
 #include <map>
 
+#include "sim/face_geometry.hpp"
 #include "sim/model.hpp"
 
 namespace rheo {
@@ -19,43 +20,6 @@ std::uint64_t cell_key(long ix, long iy, long iz) {
   constexpr long kBias = 1l << 20;
   auto part = [](long c) { return static_cast<std::uint64_t>((c + kBias) & ((1l << 21) - 1)); };
   return (part(ix) << 42) | (part(iy) << 21) | part(iz);
-}
-
-// A vertex against a face: the face's outward unit normal n, the signed distance delta and
-// the foot's weights on the face's corners (2-D: the third is 0).
-struct FaceGeometry {
-  Vec3 n;
-  double delta;
-  double w[3];
-  bool foot_inside;
-};
-
-FaceGeometry face_geometry(int dim, const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  FaceGeometry g{};
-  constexpr double kSlack = 1e-9;
-  if (dim == 2) {
-    const Vec3 e = b - a;
-    const double len2 = e.squaredNorm();
-    // Outward for a face stored with the object on its left in the x-z plane.
-    g.n = Vec3(e.z(), 0.0, -e.x()) / std::sqrt(len2);
-    g.delta = g.n.dot(p - a);
-    const double t = (p - a).dot(e) / len2;
-    g.w[0] = 1.0 - t;
-    g.w[1] = t;
-    g.w[2] = 0.0;
-    g.foot_inside = t >= -kSlack && t <= 1.0 + kSlack;
-    return g;
-  }
-  const Vec3 nn = (b - a).cross(c - a);
-  const double nn2 = nn.squaredNorm();
-  g.n = nn / std::sqrt(nn2);
-  g.delta = g.n.dot(p - a);
-  const Vec3 foot = p - g.delta * g.n;
-  g.w[0] = (b - foot).cross(c - foot).dot(nn) / nn2;
-  g.w[1] = (c - foot).cross(a - foot).dot(nn) / nn2;
-  g.w[2] = 1.0 - g.w[0] - g.w[1];
-  g.foot_inside = g.w[0] >= -kSlack && g.w[1] >= -kSlack && g.w[2] >= -kSlack;
-  return g;
 }
 
 }  // namespace
@@ -91,11 +55,11 @@ ContactDetector::ContactDetector(const Model& model) : dim_(model.dim) {
     if (entry.first != 1) continue;
     std::array<int, 3> f = {entry.second[0], entry.second[1], entry.second[2]};
     const Vec3& o = model.x0[entry.second[3]];
-    const FaceGeometry g =
-        face_geometry(model.dim, o, model.x0[f[0]], model.x0[f[1]],
+    const VertexFaceGeometry g =
+        vertex_face(model.dim, o, model.x0[f[0]], model.x0[f[1]],
                       f[2] >= 0 ? model.x0[f[2]] : Vec3(Vec3::Zero()));
     // The element's own vertex must lie inside: on the negative side.
-    if (g.delta > 0.0) std::swap(f[0], f[1]);
+    if (g.distance > 0.0) std::swap(f[0], f[1]);
     faces_.push_back(f);
     face_object_.push_back(object_of(model, f[0]));
     for (int v : f) {
@@ -114,7 +78,7 @@ ContactDetector::ContactDetector(const Model& model) : dim_(model.dim) {
   for (std::size_t k = 0; k < faces_.size(); ++k) {
     Vec3 centre = Vec3::Zero();
     for (int c = 0; c < corners; ++c) centre += corner(faces_[k], c) / corners;
-    const Vec3 nk = face_geometry(model.dim, centre, corner(faces_[k], 0), corner(faces_[k], 1),
+    const Vec3 nk = vertex_face(model.dim, centre, corner(faces_[k], 0), corner(faces_[k], 1),
                                   corners == 3 ? corner(faces_[k], 2) : Vec3(Vec3::Zero()))
                         .n;
     double thickness = std::numeric_limits<double>::infinity();
@@ -122,12 +86,12 @@ ContactDetector::ContactDetector(const Model& model) : dim_(model.dim) {
       if (j == k || face_object_[j] != face_object_[k]) continue;
       const Vec3 a = corner(faces_[j], 0), b = corner(faces_[j], 1);
       const Vec3 c = corners == 3 ? corner(faces_[j], 2) : Vec3(Vec3::Zero());
-      const FaceGeometry gj = face_geometry(model.dim, centre, a, b, c);
+      const VertexFaceGeometry gj = vertex_face(model.dim, centre, a, b, c);
       const double along = gj.n.dot(nk);
       if (std::abs(along) < 1e-12) continue;
-      const double t = gj.delta / along;  // centre - t nk lies in face j's plane
+      const double t = gj.distance / along;  // centre - t nk lies in face j's plane
       if (!(t > 1e-12 * model.size) || t >= thickness) continue;
-      if (face_geometry(model.dim, centre - t * nk, a, b, c).foot_inside) thickness = t;
+      if (vertex_face(model.dim, centre - t * nk, a, b, c).foot_on_face()) thickness = t;
     }
     rest_thickness_.push_back(thickness);
   }
@@ -173,6 +137,10 @@ int ContactDetector::add_forces(const Model& model, const std::vector<Vec3>& x,
   // How deep behind a face a vertex may be and still count as touching it: the face's size
   // (deeper, it is closer to another face of that object, or has gone through).
   std::vector<double> depth(faces_.size());
+  // The region where a face can claim a vertex: the prism from eps in front of it to its
+  // depth behind it. Cells are as large as the largest face (with eps), and each face is
+  // entered in the cells its prism's box overlaps.
+  std::vector<Eigen::AlignedBox3d> reach(faces_.size());
   double cell = 0.0;
   for (std::size_t k = 0; k < faces_.size(); ++k) {
     Eigen::AlignedBox3d box;
@@ -182,16 +150,21 @@ int ContactDetector::add_forces(const Model& model, const std::vector<Vec3>& x,
       edge_sum += (x[faces_[k][c]] - x[faces_[k][(c + 1) % corners]]).norm();
     }
     depth[k] = std::min(0.5 * rest_thickness_[k], std::max(pen.eps, edge_sum / corners));
-    cell = std::max(cell, box.sizes().maxCoeff() + pen.eps + depth[k]);
+    cell = std::max(cell, box.sizes().maxCoeff() + 2.0 * pen.eps);
+    const Vec3 n = vertex_face(dim_, x[faces_[k][0]], x[faces_[k][0]], x[faces_[k][1]],
+                                 corners == 3 ? x[faces_[k][2]] : Vec3(Vec3::Zero()))
+                       .n;
+    reach[k] = box;
+    reach[k].extend(box.min() - depth[k] * n).extend(box.max() - depth[k] * n);
+    reach[k].extend(box.min() + pen.eps * n).extend(box.max() + pen.eps * n);
+    reach[k].min().array() -= pen.eps;
+    reach[k].max().array() += pen.eps;
   }
   if (!(cell > 0.0) || !std::isfinite(cell)) return 0;
   const double inv = 1.0 / cell;
   cells_.clear();
   for (std::size_t k = 0; k < faces_.size(); ++k) {
-    Eigen::AlignedBox3d box;
-    for (int c = 0; c < corners; ++c) box.extend(x[faces_[k][c]]);
-    const double reach = std::max(pen.eps, depth[k]);
-    const Vec3 lo = (box.min().array() - reach) * inv, hi = (box.max().array() + reach) * inv;
+    const Vec3 lo = reach[k].min() * inv, hi = reach[k].max() * inv;
     for (long ix = std::lround(std::floor(lo.x())); ix <= std::lround(std::floor(hi.x())); ++ix) {
       for (long iy = std::lround(std::floor(lo.y())); iy <= std::lround(std::floor(hi.y())); ++iy) {
         for (long iz = std::lround(std::floor(lo.z())); iz <= std::lround(std::floor(hi.z()));
@@ -211,7 +184,7 @@ int ContactDetector::add_forces(const Model& model, const std::vector<Vec3>& x,
     auto it = std::lower_bound(cells_.begin(), cells_.end(), std::make_pair(key, -1));
     const int op = object_of(model, p);
     int best = -1;
-    FaceGeometry best_g{};
+    VertexFaceGeometry best_g{};
     for (; it != cells_.end() && it->first == key; ++it) {
       const int k = it->second;
       const auto& face = faces_[k];
@@ -223,11 +196,11 @@ int ContactDetector::add_forces(const Model& model, const std::vector<Vec3>& x,
         if (near) continue;
       }
       ++candidates_;
-      const FaceGeometry g = face_geometry(dim_, xp, x[face[0]], x[face[1]],
+      const VertexFaceGeometry g = vertex_face(dim_, xp, x[face[0]], x[face[1]],
                                            corners == 3 ? x[face[2]] : Vec3(Vec3::Zero()));
-      if (!g.foot_inside || !(g.delta < pen.eps) || !(g.delta > -depth[k])) continue;
+      if (!g.foot_on_face() || !(g.distance < pen.eps) || !(g.distance > -depth[k])) continue;
       // The nearest face's surface: the largest signed distance.
-      if (best < 0 || g.delta > best_g.delta) {
+      if (best < 0 || g.distance > best_g.distance) {
         best = k;
         best_g = g;
       }
@@ -248,7 +221,7 @@ int ContactDetector::add_forces(const Model& model, const std::vector<Vec3>& x,
                                                    : mass_p * face_mass / (mass_p + face_mass);
     PenaltyContact pair = pen;
     pair.mu = oc.mu_of(op, face_object_[best], objects);
-    const Vec3 force = penalty_force(pair, best_g.n, best_g.delta, v[p] - v_foot, reduced, dt);
+    const Vec3 force = penalty_force(pair, best_g.n, best_g.distance, v[p] - v_foot, reduced, dt);
     if (force.isZero(0.0)) continue;
     f[p] += force;
     for (int c = 0; c < corners; ++c) f[face[c]] -= best_g.w[c] * force;

@@ -141,8 +141,8 @@ constexpr long long kMaxParticles = 1000000;
 // A scenario is a few kB of JSON; reading stops here (a device such as /dev/zero would
 // otherwise be read until memory runs out).
 constexpr std::size_t kMaxScenarioBytes = 1 << 20;
-// A scenario nests 3 levels deep; anything much deeper is not a scenario (and nesting
-// without limit exhausts the stack of any recursive reader or writer).
+// A scenario nests 6 levels deep (a tool path's positions); anything much deeper is not a
+// scenario (and nesting without limit exhausts the stack of any recursive reader or writer).
 constexpr int kMaxNesting = 16;
 
 // "line L, column C" of a byte offset, for malformed-JSON messages.
@@ -488,7 +488,7 @@ class StrictJsonCheck {
   bool operator()(int depth, json::parse_event_t event, json& parsed) {
     if (depth > kMaxNesting) {
       throw Error(file_ + ": nested deeper than " + std::to_string(kMaxNesting) +
-                  " levels (a scenario nests 3): not a scenario file");
+                  " levels (a scenario nests at most 6): not a scenario file");
     }
     switch (event) {
       case json::parse_event_t::object_start:
@@ -608,9 +608,9 @@ Model Scenario::build_model() const {
   const bool moving = velocity != Vec3::Zero() ||
                       std::any_of(objects.begin(), objects.end(),
                                   [](const ObjectSpec& o) { return o.velocity != Vec3::Zero(); });
+  model.object_names = {object_name};
   if (!objects.empty() || moving) {
     model.object.assign(model.x0.size(), 0);
-    model.object_names = {object_name};
     model.v0.assign(model.x0.size(), velocity);
   }
   for (const ObjectSpec& o : objects) {

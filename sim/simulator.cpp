@@ -11,6 +11,7 @@
 #include "sim/error.hpp"
 #include "sim/edge_pass.hpp"
 #include "sim/element_measure.hpp"
+#include "sim/face_geometry.hpp"
 #include "sim/particle_rule.hpp"
 
 namespace rheo {
@@ -24,41 +25,6 @@ constexpr double kStabilitySafety = 0.9;
 constexpr double kRk4Radius = 2.5;
 // RK4's stability interval on the negative real axis (first-order relaxations of d, m).
 constexpr double kRk4RealAxis = 2.78;
-
-// Geometry of a vertex against its opposite edge (2D, in the x-z plane) or face (3D):
-// unit normal n (unsigned orientation), signed distance along n and the weights of the
-// foot point on the edge/face vertices (they sum to 1 and reproduce the foot point, so the
-// reaction forces keep both momentum and angular momentum).
-struct VertexFaceGeometry {
-  Vec3 n;
-  double distance;
-  double w[3];
-};
-
-VertexFaceGeometry vertex_face(int dim, const Vec3& xi, const Vec3& a, const Vec3& b,
-                               const Vec3& c) {
-  VertexFaceGeometry g;
-  if (dim == 2) {
-    const Vec3 e = b - a;
-    const double len2 = e.squaredNorm();
-    g.n = Vec3(e.z(), 0.0, -e.x()) / std::sqrt(len2);
-    g.distance = g.n.dot(xi - a);
-    const double t = (xi - a).dot(e) / len2;
-    g.w[0] = 1.0 - t;
-    g.w[1] = t;
-    g.w[2] = 0.0;
-    return g;
-  }
-  const Vec3 nn = (b - a).cross(c - a);
-  const double nn2 = nn.squaredNorm();
-  g.n = nn / std::sqrt(nn2);
-  g.distance = g.n.dot(xi - a);
-  const Vec3 foot = xi - g.distance * g.n;
-  g.w[0] = (b - foot).cross(c - foot).dot(nn) / nn2;
-  g.w[1] = (c - foot).cross(a - foot).dot(nn) / nn2;
-  g.w[2] = 1.0 - g.w[0] - g.w[1];
-  return g;
-}
 
 }  // namespace
 

@@ -326,4 +326,49 @@ TEST_F(SimulateTest, HelpDescribesTheCommand) {
   EXPECT_NE(r.output.find("force.csv"), std::string::npos);
 }
 
+TEST_F(SimulateTest, ToolsAndObjectsWriteTheirCsvsAndVtkParts) {
+  // A short press_sphere: the sphere has touched the dough by 1.2 s.
+  RunResult r = run_rheo("simulate --scenario press_sphere --duration 1.2 --quiet --no-plot --out " +
+                         out());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("tool sphere: largest reaction"), std::string::npos) << r.output;
+  const std::vector<std::string> tools = read_lines(out() + "/tools.csv");
+  ASSERT_GT(tools.size(), 1200u);  // a row per step
+  EXPECT_EQ(tools[3].rfind("time_s,sphere_fx_N,sphere_fy_N,sphere_fz_N,sphere_tx_N_m", 0), 0u)
+      << tools[3];
+  std::stringstream last(tools.back());
+  std::string t, fx, fy, fz;
+  std::getline(last, t, ',');
+  std::getline(last, fx, ',');
+  std::getline(last, fy, ',');
+  std::getline(last, fz, ',');
+  EXPECT_GT(std::stod(fz), 0.0) << tools.back();  // the dough pushes the sphere up
+  std::ifstream pvd(out() + "/mesh.pvd");
+  const std::string collection((std::istreambuf_iterator<char>(pvd)), {});
+  EXPECT_NE(collection.find("name=\"dough\" file=\"vtk/frame_"), std::string::npos);
+  EXPECT_NE(collection.find("name=\"sphere\" file=\"vtk/tool0_"), std::string::npos);
+  EXPECT_EQ(collection.find("name=\"plate\""), std::string::npos);  // no plate in this scene
+  EXPECT_TRUE(fs::exists(out() + "/vtk/tool0_000000.vtu"));
+
+  fs::remove_all(out());
+  r = run_rheo("simulate --scenario slide_mu03 --duration 0.05 --quiet --no-plot --out " + out());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::vector<std::string> objects = read_lines(out() + "/objects.csv");
+  ASSERT_GT(objects.size(), 5u);
+  EXPECT_EQ(objects[3].rfind("time_s,base_x_m,", 0), 0u) << objects[3];
+  EXPECT_NE(objects[3].find("slider_vx_m_s"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out() + "/vtk/object1_000000.vtu"));
+}
+
+TEST_F(SimulateTest, CoresRefuseToolsAndContactEvenWithAllowDropped) {
+  for (const char* scene : {"press_sphere", "six_objects"}) {
+    const RunResult r = run_rheo(std::string("simulate --scenario ") + scene +
+                                 " --backend bittrue --allow-dropped --quiet --out " + out());
+    EXPECT_NE(r.status, 0) << scene;
+    EXPECT_NE(r.output.find("docs/hardware.md"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--backend ref"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out()));
+  }
+}
+
 }  // namespace
