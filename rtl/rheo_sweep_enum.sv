@@ -89,7 +89,11 @@ module rheo_sweep_enum #(
   logic m1_q;
   logic [EntryW-1:0] m1_e_q;
   logic [SAW-1:0] rd_idx_q;
-  logic [SAW:0] rd_lim_q;  // own: count - idx (ends stay below it); cross: ghost - idx
+  // The particle's reach compares, made as it is issued (offsets, count and ghost do not
+  // change during a step): own, off < count - idx (the end stays below the slab's end);
+  // cross, off >= ghost - idx (the end lies past the ghosts). The read clock's reach
+  // selects between them as before, from registers instead of carry chains.
+  logic [Offsets-1:0] rd_ge_q, rd_lt_q;
   // The queue: its first entry in a register (head_q), the others in q_mem, so that the
   // slot logic starts from registers.
   logic [EntryW-1:0] q_mem [QDepth];
@@ -110,12 +114,21 @@ module rheo_sweep_enum #(
   logic [StatW-1:0] stat;
   logic [Offsets-1:0] reach, valid_off;
   logic [EntryW-1:0] in_e;
+  logic [SAW:0] pf_lim;  // own: count - idx (ends stay below it); cross: ghost - idx
+  logic [Offsets-1:0] pf_ge, pf_lt;
+  always_comb begin
+    pf_lim = pf_cross_q ? (SAW+1)'(ghost_i) - (SAW+1)'(pf_idx_q)
+                        : count_i - (SAW+1)'(pf_idx_q);
+    for (int k = 0; k < Offsets; k++) begin
+      pf_ge[k] = {1'b0, off[k]} >= (OffW+1)'(pf_lim);
+      pf_lt[k] = (SAW+1)'(off[k]) < pf_lim;
+    end
+  end
   always_comb begin
     stat = rd_cross_q ? prev_stat_i : own_stat_i;
     for (int k = 0; k < Offsets; k++) begin
       valid_off[k] = off[k] != '0;
-      reach[k] = valid_off[k] && (rd_cross_q ? ({1'b0, off[k]} >= (OffW+1)'(rd_lim_q))
-                                               : ((SAW+1)'(off[k]) < rd_lim_q));
+      reach[k] = valid_off[k] && (rd_cross_q ? rd_ge_q[k] : rd_lt_q[k]);
     end
     in_e[ECross] = rd_cross_q;
     in_e[EIdx +: SAW] = rd_idx_q;
@@ -181,7 +194,8 @@ module rheo_sweep_enum #(
       cur_rem_q <= '0;
       rd_cross_q <= 1'b0;
       rd_idx_q <= '0;
-      rd_lim_q <= '0;
+      rd_ge_q <= '0;
+      rd_lt_q <= '0;
       q_wr_q <= '0;
       q_rd_q <= '0;
       q_cnt_q <= '0;
@@ -217,8 +231,8 @@ module rheo_sweep_enum #(
       if (issue) begin
         rd_cross_q <= pf_cross_q;
         rd_idx_q <= pf_idx_q;
-        rd_lim_q <= pf_cross_q ? (SAW+1)'(ghost_i) - (SAW+1)'(pf_idx_q)
-                               : count_i - (SAW+1)'(pf_idx_q);
+        rd_ge_q <= pf_ge;
+        rd_lt_q <= pf_lt;
         if (pf_last) begin
           // From the cross sweep to the own sweep, or the end of the lane's particles.
           pf_active_q <= pf_cross_q && count_i != '0;

@@ -12,7 +12,7 @@
 // What it computes: edges with every edge feature (nonlinear damper, strain hardening,
 // Maxwell arm, relaxation spectrum), area/volume preservation, fixed particles, gravity,
 // the floor and the plate (both contact rules). What it leaves to the scalar path:
-// RK4 and topology maintenance (fast_path_refusal names them).
+// RK4, topology maintenance, contact among objects and tools (fast_path_refusal names them).
 #pragma once
 
 #include <atomic>

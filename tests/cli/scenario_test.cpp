@@ -60,8 +60,10 @@ std::string load_error(const json& j, std::string* file = nullptr) {
   return load_text_error(j.dump(2), file);
 }
 
-TEST(BuiltinScenarios, AreClayPushBlock5AndBlock15) {
-  EXPECT_EQ(builtin_scenarios(), (std::vector<std::string>{"clay_push", "block5", "block15"}));
+TEST(BuiltinScenarios, AreThePapersModelsAndTheSeedContactScenes) {
+  EXPECT_EQ(builtin_scenarios(),
+            (std::vector<std::string>{"clay_push", "block5", "block15", "press_sphere", "slide_mu0",
+                                      "slide_mu03", "six_objects", "roller_dough"}));
 }
 
 TEST(BuiltinScenarios, EachBuildsAValidModelWithAStableTimeStep) {

@@ -73,8 +73,27 @@ TEST_P(BuiltInScenario, TenThousandStepsStayWithin1e12OfTheObjectSize) {
   EXPECT_GT(gap.peak, 0.0);  // the plate pushed: contact is part of the comparison
 }
 
-INSTANTIATE_TEST_SUITE_P(FastPath, BuiltInScenario, ::testing::ValuesIn(builtin_scenarios()),
+// The built-in scenarios the fast path computes (the contact scenes run on the scalar path).
+std::vector<std::string> fast_path_scenarios() {
+  std::vector<std::string> names;
+  for (const std::string& name : builtin_scenarios()) {
+    const Scenario sc = load_scenario(name);
+    if (fast::fast_path_refusal(sc.build_model(), sc.options).empty()) names.push_back(name);
+  }
+  return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(FastPath, BuiltInScenario, ::testing::ValuesIn(fast_path_scenarios()),
                          [](const auto& info) { return info.param; });
+
+TEST(FastPath, RefusesContactAndToolsNamingThem) {
+  const Scenario tools = load_scenario("press_sphere");
+  EXPECT_EQ(fast::fast_path_refusal(tools.build_model(), tools.options), "tools");
+  const Scenario contact = load_scenario("six_objects");
+  EXPECT_EQ(fast::fast_path_refusal(contact.build_model(), contact.options),
+            "contact among objects");
+  EXPECT_THROW(fast::FastSimulator(tools.build_model(), tools.options, 1), Error);
+}
 
 // A block5 variant for the feature tests: the scenario file's features, a model edit, and
 // 3,000 steps (push and part of the hold).
