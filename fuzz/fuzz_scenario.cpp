@@ -47,7 +47,8 @@ void use(const rheo::Scenario& s) {
   for (double t : {-1.0, 0.0, 0.5 * end, end, 2.0 * end}) (void)s.protocol.displacement_mm(t);
   for (long long step : {0LL, 1LL, 1000LL}) (void)s.plate_mm(step);
 
-  const long particles = long(s.block.nx) * s.block.ny * s.block.nz;
+  long particles = long(s.block.nx) * s.block.ny * s.block.nz;
+  for (const rheo::ObjectSpec& o : s.objects) particles += long(o.block.nx) * o.block.ny * o.block.nz;
   if (particles > kMaxParticlesToBuild) return;
   expect_error_or_success([&] {
     const rheo::Model model = s.build_model();

@@ -138,6 +138,10 @@ constexpr int kMaxParticlesPerAxis = 200;
 // 26-neighbour lattice, ~1.5 GB of model and state) is far beyond what a run finishes in
 // reasonable time (the reference model updates ~75 M edges/s per core).
 constexpr long long kMaxParticles = 1000000;
+// Objects and tools of one scene: far more than a scene of seed 000 has, few enough that the
+// contact's friction table (objects x objects) stays small.
+constexpr std::size_t kMaxObjects = 256;
+constexpr std::size_t kMaxTools = 16;
 // A scenario is a few kB of JSON; reading stops here (a device such as /dev/zero would
 // otherwise be read until memory runs out).
 constexpr std::size_t kMaxScenarioBytes = 1 << 20;
@@ -366,7 +370,10 @@ void read_contact(const Field& contact, Scenario& s) {
 
 // /objects: further objects of the scene.
 void read_objects(const Field& objects, Scenario& s) {
-  if (!objects.value().is_array()) objects.fail("an array of objects");
+  if (!objects.value().is_array() || objects.value().size() + 1 > kMaxObjects) {
+    objects.fail("an array of at most " + std::to_string(kMaxObjects - 1) + " objects");
+  }
+  long long particles = 1LL * s.block.nx * s.block.ny * s.block.nz;
   for (std::size_t i = 0; i < objects.value().size(); ++i) {
     const Field o = objects.at(i);
     o.expect_object({"name", "mesh", "material", "offset_m", "velocity_m_s"});
@@ -379,6 +386,12 @@ void read_objects(const Field& objects, Scenario& s) {
       if (other.name == spec.name) o["name"].fail("a name no other object has");
     }
     read_mesh(o["mesh"], spec.block);
+    particles += 1LL * spec.block.nx * spec.block.ny * spec.block.nz;
+    if (particles > kMaxParticles) {
+      o["mesh"].fail("objects of at most " + std::to_string(kMaxParticles) +
+                     " particles in all (this one brings the scene to " +
+                     std::to_string(particles) + ")");
+    }
     read_material(o["material"], spec.block);
     if (spec.block.dim != s.block.dim) {
       o["mesh"]["dim"].fail("the main object's dimension " + std::to_string(s.block.dim));
@@ -401,7 +414,9 @@ PenaltyContact read_penalty(const Field& contact) {
 
 // /tools: rigid tools and their pose histories (sim/tool.hpp).
 void read_tools(const Field& tools, Scenario& s) {
-  if (!tools.value().is_array()) tools.fail("an array of tools");
+  if (!tools.value().is_array() || tools.value().size() > kMaxTools) {
+    tools.fail("an array of at most " + std::to_string(kMaxTools) + " tools");
+  }
   for (std::size_t i = 0; i < tools.value().size(); ++i) {
     const Field t = tools.at(i);
     t.expect_object({"name", "shape", "axis", "up", "radius_m", "length_m", "width_m",
