@@ -328,6 +328,33 @@ TEST(ContactScenario, BadInputNamesTheField) {
             std::string::npos);
 }
 
+TEST(ContactScenario, ObjectsAndToolsAreBounded) {
+  std::string tools = R"(, "tools": [)";
+  for (int i = 0; i < 17; ++i) {
+    tools += std::string(i ? ", " : "") + R"({"name": "s)" + std::to_string(i) +
+             R"(", "shape": "sphere", "radius_m": 0.01, "contact": {"eps_m": 1e-4, "k_n_m": 10},
+                 "path": {"t_s": [0], "position_m": [[0, 0, 1]]}})";
+  }
+  tools += "]";
+  try {
+    scene(tools);
+    ADD_FAILURE() << "17 tools accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/tools: expected an array of at most 16 tools"),
+              std::string::npos)
+        << e.what();
+  }
+  const std::string big = R"(, "objects": [{"name": "big", "mesh": {"dim": 3, "structure": "lattice",
+      "nx": 200, "ny": 200, "nz": 30, "sx_m": 1, "sy_m": 1, "sz_m": 1}, "material": )" +
+                          std::string(kStiff) + R"(}])";
+  try {
+    scene(big);
+    ADD_FAILURE() << "a 1.2 M particle scene accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/objects/0/mesh"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ToolContact, StepWithoutPosesIsRefused) {
   Scenario s = scene(R"(, "tools": [{"name": "s", "shape": "sphere", "radius_m": 0.01,
       "contact": {"eps_m": 1e-4, "k_n_m": 10}, "path": {"t_s": [0], "position_m": [[0, 0, 1]]}}])");
