@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <thread>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "host/driver/link/frame_channel.hpp"
@@ -133,6 +134,34 @@ TEST_F(HapticServerTest, BadPosesEndTheSessionWithAnError) {
   const ToolPose q = sphere_at(1);
   EXPECT_EQ(next.step({&q, 1}).reactions.size(), 1u);
   next.close();
+}
+
+TEST(HapticServerCli, ServesAClientAndStopsWhenAsked) {
+  // `rheo haptic-server` as a user starts it: a process of its own.
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("rheo-haptic-cli-" + std::to_string(::getpid()) + ".sock"))
+                               .string();
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl(RHEO_BINARY, RHEO_BINARY, "haptic-server", "--scenario", "press_sphere", "--socket",
+            path.c_str(), "--quiet", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  {
+    HapticClient client(path, 20000ms);  // retries while the server starts
+    EXPECT_EQ(client.tools(), 1u);
+    HapticSession local(load_scenario("press_sphere"));
+    for (int i = 1; i <= 1200; ++i) {
+      const ToolPose p = sphere_at(i);
+      ASSERT_EQ(client.step({&p, 1}).reactions[0].force, local.step({&p, 1})[0].force);
+    }
+    client.close(/*stop_server=*/true);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  EXPECT_FALSE(std::filesystem::exists(path));  // the socket file is removed on the way out
 }
 
 }  // namespace
