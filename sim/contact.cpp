@@ -136,11 +136,13 @@ int ContactDetector::add_forces(const Model& model, const std::vector<Vec3>& x,
   const int corners = dim_ == 3 ? 3 : 2;
   // How deep behind a face a vertex may be and still count as touching it: the face's size
   // (deeper, it is closer to another face of that object, or has gone through).
-  std::vector<double> depth(faces_.size());
+  std::vector<double>& depth = depth_;
+  depth.resize(faces_.size());
   // The region where a face can claim a vertex: the prism from eps in front of it to its
   // depth behind it. Cells are as large as the largest face (with eps), and each face is
   // entered in the cells its prism's box overlaps.
-  std::vector<Eigen::AlignedBox3d> reach(faces_.size());
+  std::vector<Eigen::AlignedBox3d>& reach = reach_;
+  reach.resize(faces_.size());
   double cell = 0.0;
   for (std::size_t k = 0; k < faces_.size(); ++k) {
     Eigen::AlignedBox3d box;

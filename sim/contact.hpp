@@ -17,6 +17,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "sim/tool.hpp"
 
 namespace rheo {
@@ -61,7 +63,11 @@ class ContactDetector {
   std::vector<double> rest_thickness_;     // per face: the object's extent behind it at rest
   std::vector<int> vertices_;              // surface particles
   std::vector<int> neighbour_start_, neighbour_;  // CSR, sorted
-  std::vector<std::pair<std::uint64_t, int>> cells_;  // (cell key, face), sorted
+  // Scratch of add_forces, kept so that a step allocates nothing: per face its depth and
+  // reach box, and the grid's (cell key, face) entries, sorted.
+  std::vector<double> depth_;
+  std::vector<Eigen::AlignedBox3d> reach_;
+  std::vector<std::pair<std::uint64_t, int>> cells_;
   long long candidates_ = 0;
 };
 

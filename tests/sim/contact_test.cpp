@@ -79,11 +79,11 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
 double deepest_penetration(const Model& m, const State& s) {
   std::map<std::array<int, 3>, int> count;
   for (const auto& t : m.tetrahedra) {
-    for (int skip = 0; skip < 4; ++skip) {
+    for (int opposite = 0; opposite < 4; ++opposite) {
       std::array<int, 3> f;
       int k = 0;
       for (int v = 0; v < 4; ++v) {
-        if (v != skip) f[k++] = t[v];
+        if (v != opposite) f[k++] = t[v];
       }
       std::sort(f.begin(), f.end());
       ++count[f];
