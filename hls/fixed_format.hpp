@@ -185,6 +185,8 @@ inline constexpr int kDefaultLanes = 1;
 // defined here so that the core's drains follow when a module's pipeline changes.
 inline constexpr int kTemLatency = 40;
 inline constexpr int kMpmLatency = 8;
+// rtl/rheo_tool.sv (hls/tool_contact.hpp): one particle's contact with a rigid tool.
+inline constexpr int kToolLatency = 57;
 inline constexpr int kTemDrainCycles = kTemLatency + 4;
 // A TEM with strain hardening computes its coefficients from l, which it has at stage 21
 // (rtl/rheo_harden.sv, 44 stages from stage 17): everything from the coefficient products

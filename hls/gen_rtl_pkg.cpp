@@ -7,6 +7,7 @@
 #include "hls/fixed_format.hpp"
 #include "hls/frame_format.hpp"
 #include "hls/sweep_format.hpp"
+#include "hls/tool_contact.hpp"
 
 namespace {
 
@@ -53,6 +54,11 @@ int main() {
   param("ShiftK2t", Shifts::kK2t, "extra shift of k2t*m: X -> F");
   param("TemLatency", h::kTemLatency, "rheo_tem: clocks from valid_i to valid_o");
   param("MpmLatency", h::kMpmLatency, "rheo_mpm: clocks from valid_i to valid_o");
+  param("ToolLatency", h::kToolLatency, "rheo_tool: clocks from valid_i to valid_o");
+  param("ToolOff", h::kToolOff, "tool kind: no tool");
+  param("ToolPlane", h::kToolPlane, "tool kind");
+  param("ToolSphere", h::kToolSphere, "tool kind");
+  param("ToolCylinder", h::kToolCylinder, "tool kind");
   param("TemDrain", h::kTemDrainCycles, "clocks after the last edge row until its sums land");
   param("MpmDrain", h::kMpmDrainCycles, "clocks after the last particle row until written");
   param("ForceAccW", Fmt::kWidth + h::kForceAccGuardBits, "per-particle force sum");

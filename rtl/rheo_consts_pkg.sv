@@ -27,6 +27,11 @@ package rheo_consts_pkg;
   localparam int ShiftK2t = 7;  // extra shift of k2t*m: X -> F
   localparam int TemLatency = 40;  // rheo_tem: clocks from valid_i to valid_o
   localparam int MpmLatency = 8;  // rheo_mpm: clocks from valid_i to valid_o
+  localparam int ToolLatency = 57;  // rheo_tool: clocks from valid_i to valid_o
+  localparam int ToolOff = 0;  // tool kind: no tool
+  localparam int ToolPlane = 1;  // tool kind
+  localparam int ToolSphere = 2;  // tool kind
+  localparam int ToolCylinder = 3;  // tool kind
   localparam int TemDrain = 44;  // clocks after the last edge row until its sums land
   localparam int MpmDrain = 13;  // clocks after the last particle row until written
   localparam int ForceAccW = 40;  // per-particle force sum

@@ -9,6 +9,9 @@ set(RHEO_RTL_DIR ${CMAKE_CURRENT_LIST_DIR})
 set(RHEO_RTL_TEM_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_recip.sv rheo_damper_q.sv rheo_damper.sv
     rheo_harden.sv rheo_tem.sv)
 set(RHEO_RTL_MPM_FILES rheo_consts_pkg.sv rheo_mpm.sv)
+# The tool unit (contact of a particle with a rigid tool), verilated alone against the
+# bit-true model and synthesised alone for its cost.
+set(RHEO_RTL_TOOL_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_tool.sv)
 # Strain hardening's coefficient unit, verilated alone against the bit-true model.
 set(RHEO_RTL_HARDEN_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_recip.sv rheo_damper_q.sv rheo_harden.sv)
 # Volume preservation's element unit, verilated alone against the bit-true model.
@@ -53,7 +56,7 @@ set(RHEO_RTL_SWEEP_FILES
 # The sweep core with its board SRAM (simulation models) for Verilator.
 set(RHEO_RTL_SWEEP_TB_FILES ${RHEO_RTL_SWEEP_FILES} rheo_zbt_sram.sv rheo_sweep_tb.sv)
 
-# OUT = the files of list NAME (CORE, TEM, MPM, HARDEN, VOLUME, SWEEP or SWEEP_TB) as
+# OUT = the files of list NAME (CORE, TEM, MPM, TOOL, HARDEN, VOLUME, SWEEP or SWEEP_TB) as
 # absolute paths.
 function(rheo_rtl_paths OUT NAME)
   list(TRANSFORM RHEO_RTL_${NAME}_FILES PREPEND ${RHEO_RTL_DIR}/ OUTPUT_VARIABLE paths)
