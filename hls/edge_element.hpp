@@ -42,6 +42,10 @@ struct EdgeElement {
   // two slots of a lane (hls::volume_element). Not a part of the edge, but of the core
   // that carries it, so it is named with the edge element.
   bool volume_preservation = false;
+  // The tool unit: per lane, each particle's contact with one rigid tool (plane, sphere or
+  // cylinder; penalty force without friction) in the MPM pass (hls/tool_contact.hpp). A
+  // part of the core, like the volume unit. Its MPM pass runs kToolLatency clocks longer.
+  bool tool_contact = false;
 
   constexpr bool has_maxwell_arm() const { return maxwell_arms > 0; }
   // Whether the edge's coefficients are scaled per edge (the damper or hardening): the arms'
@@ -50,6 +54,11 @@ struct EdgeElement {
   // Clocks from the last edge row until its force sums land (the cycle formula's TemDrain).
   constexpr int tem_drain_cycles() const {
     return hls::tem_drain_cycles(strain_hardening, series_damper);
+  }
+  // Clocks from the last particle row until its state is written (the cycle formula's
+  // MpmDrain): the tool unit and its sum stage sit in front of the MPM.
+  constexpr int mpm_drain_cycles() const {
+    return kMpmDrainCycles + (tool_contact ? kToolLatency + 1 : 0);
   }
   // Packed coefficients per material the TEM reads (region Material, the damper's, then
   // the arms').
@@ -63,19 +72,21 @@ struct EdgeElement {
     if (region < frame::kNumBaseRegions) return true;
     if (region == frame::kRegionMaterialDamper) return series_damper;
     if (region == frame::kRegionMaterialHardening) return strain_hardening;
+    if (region == frame::kRegionTool || region == frame::kRegionToolReaction) return tool_contact;
     return frame::arm_of_region(region) >= 0 && frame::arm_of_region(region) < maxwell_arms;
   }
   // The RTL parameters that build this variant (beside Lanes).
-  constexpr std::array<RtlParameter, 4> rtl_parameters() const {
+  constexpr std::array<RtlParameter, 5> rtl_parameters() const {
     return {RtlParameter{"MaxwellArms", maxwell_arms},
             RtlParameter{"SeriesDamper", series_damper ? 1 : 0},
             RtlParameter{"StrainHardening", strain_hardening ? 1 : 0},
-            RtlParameter{"VolumePreservation", volume_preservation ? 1 : 0}};
+            RtlParameter{"VolumePreservation", volume_preservation ? 1 : 0},
+            RtlParameter{"ToolContact", tool_contact ? 1 : 0}};
   }
   friend constexpr bool operator==(const EdgeElement& a, const EdgeElement& b) {
     return a.maxwell_arms == b.maxwell_arms && a.series_damper == b.series_damper &&
            a.strain_hardening == b.strain_hardening &&
-           a.volume_preservation == b.volume_preservation;
+           a.volume_preservation == b.volume_preservation && a.tool_contact == b.tool_contact;
   }
 };
 
@@ -125,13 +136,20 @@ inline constexpr EdgeElement kEveryFeature{
     "every feature: the edge with every effect, and volume-preserving forces per tetrahedron",
     8, true, true, true};
 
+// The paper's edge in a core with the tool unit (a rigid tool pressed into the object).
+inline constexpr EdgeElement kThreeElementWithTool{
+    "three-element+tool",
+    "the three-element edge, and a tool unit per lane: each particle's penalty contact with "
+    "a rigid plane, sphere or cylinder in the MPM pass",
+    0, false, false, false, true};
+
 // Every variant the bit-true model and the RTL implement, in the order edge_element_with
 // tries them (among variants with the same parts, fewer arms first).
-inline constexpr std::array<EdgeElement, 10> kEdgeElements{
+inline constexpr std::array<EdgeElement, 11> kEdgeElements{
     kThreeElement,           kThreeElementWithArm,    kThreeElementWith4Arms,
     kThreeElementWith8Arms,  kThreeElementWithDamper, kThreeElementWithDamper8Arms,
     kThreeElementWithHardening, kThreeElementEveryEffect, kThreeElementWithVolume,
-    kEveryFeature};
+    kEveryFeature,           kThreeElementWithTool};
 
 // The variant named `name`, or nullptr.
 constexpr const EdgeElement* find_edge_element(std::string_view name) {
@@ -142,13 +160,14 @@ constexpr const EdgeElement* find_edge_element(std::string_view name) {
 }
 
 // The simplest variant with at least `arms` Maxwell arms (and the series damper when
-// `damper`, strain hardening when `hardening`, volume preservation when `volume`), or
-// nullptr.
+// `damper`, strain hardening when `hardening`, volume preservation when `volume`, the tool
+// unit when `tool`), or nullptr. A variant with the tool unit is chosen only for a tool.
 constexpr const EdgeElement* edge_element_with(int arms, bool damper, bool hardening = false,
-                                               bool volume = false) {
+                                               bool volume = false, bool tool = false) {
   for (const EdgeElement& e : kEdgeElements) {
     if (e.maxwell_arms >= arms && (e.series_damper || !damper) &&
-        (e.strain_hardening || !hardening) && (e.volume_preservation || !volume))
+        (e.strain_hardening || !hardening) && (e.volume_preservation || !volume) &&
+        e.tool_contact == tool)
       return &e;
   }
   return nullptr;
@@ -165,7 +184,8 @@ inline std::int64_t core_step_for(const EdgeElement& element, CoreMemory& mem,
             ? (plate = core_step<Fmt, kEdgeElements[I].maxwell_arms,
                                  kEdgeElements[I].series_damper,
                                  kEdgeElements[I].strain_hardening,
-                                 kEdgeElements[I].volume_preservation>(mem),
+                                 kEdgeElements[I].volume_preservation,
+                                 kEdgeElements[I].tool_contact>(mem),
                true)
             : false) ||
        ...);

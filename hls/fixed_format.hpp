@@ -153,6 +153,9 @@ enum StatusBit : std::uint32_t {
   kStatusScheduleConflict = 1u << 5,
   // A volume element's force saturated (the element pass, volume preservation).
   kStatusVolumeSaturated = 1u << 6,
+  // The tool's reaction force (the sum of its forces on the particles) saturated when
+  // narrowed to its words (a core with the tool unit).
+  kStatusToolReactionSaturated = 1u << 7,
 };
 
 // Material table entry flags.

@@ -56,7 +56,16 @@ enum Region : std::uint32_t {
   kRegionSweepOffset = 27,
   kRegionSweepClass = 28,
   kRegionSweepMass = 29,
-  kNumRegions = 30,  // the base regions, kMaxArms arms, the damper, hardening, the sweep core's
+  // The tool unit (a core built with ToolContact = 1; others flag a bad command):
+  //   kRegionTool:          the tool's registers, one word per entry (see ToolRegister);
+  //                         written before each step, read back as the core holds them
+  //   kRegionToolReaction:  entries 0..2: the reaction force on the tool (x, y, z, F format)
+  //                         of the last step: minus the sum of the tool's forces on the
+  //                         particles; writes are ignored
+  kRegionTool = 30,
+  kRegionToolReaction = 31,
+  kNumRegions = 32,  // the base regions, kMaxArms arms, the damper, hardening, the sweep
+                     // core's, the tool unit's
 };
 
 // Parallel Maxwell arms a core can carry: one region pair each, in the header's region field.
@@ -65,7 +74,7 @@ inline constexpr int kMaxArms = 8;
 // Regions a core without Maxwell arms accepts.
 inline constexpr std::uint32_t kNumBaseRegions = kRegionMaterialArm;
 static_assert(kRegionMaterialDamper == kNumBaseRegions + 2 * kMaxArms);
-static_assert(kNumRegions == kRegionSweepMass + 1);
+static_assert(kNumRegions == kRegionToolReaction + 1);
 // Packed coefficients of a damper region entry.
 inline constexpr std::uint32_t kDamperCoefs = 6;
 // Packed coefficients of a hardening region entry.
@@ -91,7 +100,7 @@ inline constexpr bool is_edge_arm_region(std::uint32_t region) {
 inline constexpr std::uint32_t kWordsPerEntry[kNumRegions] = {1, 6, 5, 4, 7, 1, 2, 1, 2, 1, 2,
                                                               1, 2, 1, 2, 1, 2, 1, 2, 1, 2, 1,
                                                               kDamperCoefs, kHardeningCoefs,
-                                                              1, 2, 4, 1, 2, 1};
+                                                              1, 2, 4, 1, 2, 1, 1, 1};
 // The words of a sweep-core lane entry (kRegionSweepLane) and edge class entry.
 enum SweepLaneWord : std::uint32_t {
   kSweepLaneFirst = 0,
@@ -109,6 +118,24 @@ enum GlobalRegister : std::uint32_t {
   kGlobalControl = 5,  // kControl* bits; a write also forgets which particles the plate held
   kNumGlobals = 6,
 };
+
+// The tool unit's registers (region kRegionTool, hls::ToolRegs): the tool's kind
+// (hls::ToolKind, bits [1:0]), its position now (X format), its displacement over the step
+// (P format), its unit normal or axis (Q1.16 operands, sign-extended from bit 17), the reach
+// (X format: eps, or radius + eps), half the cylinder's length (X format), and the penalty
+// coefficients kt and ct (packed).
+enum ToolRegister : std::uint32_t {
+  kToolKind = 0,
+  kToolCx = 1, kToolCy = 2, kToolCz = 3,
+  kToolDcx = 4, kToolDcy = 5, kToolDcz = 6,
+  kToolAx = 7, kToolAy = 8, kToolAz = 9,
+  kToolReach = 10,
+  kToolHalfLength = 11,
+  kToolKt = 12,
+  kToolCt = 13,
+  kNumToolRegisters = 14,
+};
+inline constexpr std::uint32_t kToolReactionWords = 3;
 
 inline constexpr std::uint32_t kControlFloor = 1u << 0;
 inline constexpr std::uint32_t kControlPlate = 1u << 1;

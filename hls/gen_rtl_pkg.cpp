@@ -70,6 +70,7 @@ int main() {
   param("StatusBadCommand", h::kStatusBadCommand, "status bit");
   param("StatusScheduleConflict", h::kStatusScheduleConflict, "status bit");
   param("StatusVolumeSat", h::kStatusVolumeSaturated, "status bit");
+  param("StatusToolSat", h::kStatusToolReactionSaturated, "status bit");
   param("VolOperandBits", h::kVolOperandBits, "volume element: operands of V6's products");
   param("FracV", Fmt::kFracV, "fractional bits of six-fold element volumes");
   param("ShiftVolume", Shifts::kVolume, "extra shift of c*D*g: V, X^2 -> F");
@@ -109,6 +110,19 @@ int main() {
   param("RegionMaterialHardening", f::kRegionMaterialHardening, "region");
   param("HardeningCoefs", f::kHardeningCoefs, "hardening material entry: packed coefficients");
   param("NumRegions", f::kNumRegions, "regions");
+  param("RegionTool", f::kRegionTool, "region: the tool unit's registers");
+  param("RegionToolReaction", f::kRegionToolReaction, "region: the tool's reaction force");
+  param("ToolRegisters", f::kNumToolRegisters, "tool unit: registers (region entries)");
+  param("ToolReactionWords", f::kToolReactionWords, "tool unit: reaction words");
+  param("ToolKind", f::kToolKind, "tool register: kind (bits 1:0)");
+  param("ToolCx", f::kToolCx, "tool register: position x, y, z follow (X format)");
+  param("ToolDcx", f::kToolDcx, "tool register: displacement over the step x, y, z follow (P)");
+  param("ToolAx", f::kToolAx, "tool register: normal / axis x, y, z follow (Q1.16 operands)");
+  param("ToolAz", f::kToolAz, "tool register: normal / axis z");
+  param("ToolReach", f::kToolReach, "tool register: eps, or radius + eps (X format)");
+  param("ToolHalfLength", f::kToolHalfLength, "tool register: half the cylinder's length (X)");
+  param("ToolKt", f::kToolKt, "tool register: kt (packed)");
+  param("ToolCt", f::kToolCt, "tool register: ct (packed)");
   param("GlobalNumParticles", f::kGlobalNumParticles, "global register");
   param("GlobalEdgeRows", f::kGlobalEdgeRows, "global register");
   param("GlobalGravityX", f::kGlobalGravityX, "global register");

@@ -788,6 +788,37 @@ inline VolumeOut volume_element(const VolumeIn& in, std::uint32_t* status,
   return out;
 }
 
+// ---- the tool unit's registers (the unit itself: hls/tool_contact.hpp) ----------------
+
+enum ToolKind : std::uint32_t {
+  kToolOff = 0,
+  kToolPlane = 1,
+  kToolSphere = 2,
+  kToolCylinder = 3,
+};
+
+// The tool registers of one step (the core holds them constant during the MPM pass).
+struct ToolRegs {
+  std::uint32_t kind = kToolOff;
+  std::int64_t c[3] = {0, 0, 0};   // position now (X format): plane point, sphere or cylinder centre
+  std::int64_t dc[3] = {0, 0, 0};  // displacement over the step (P format)
+  std::int64_t a[3] = {0, 0, 0};   // unit normal (plane) or axis (cylinder), Q1.(B-2) operands
+  std::int64_t reach = 0;          // X format: eps (plane), radius + eps (sphere, cylinder)
+  std::int64_t half_length = 0;    // X format: half the cylinder's length
+  Coef kt;                         // k Lu / Fu (CoefShifts::kKt)
+  Coef ct;                         // c Lu / (dt Fu) (CoefShifts::kCt)
+};
+
+struct ToolOut {
+  std::int64_t f[3] = {0, 0, 0};  // force on the particle (F format)
+  bool contact = false;
+};
+
+// One particle's contact with the tool (defined in hls/tool_contact.hpp).
+template <class Fmt>
+ToolOut tool_particle(const std::int64_t x[3], const std::int64_t p[3], const ToolRegs& t,
+                      std::uint32_t* status);
+
 // ---- MPM ------------------------------------------------------------------------------
 
 struct MpmParticle {
@@ -915,6 +946,10 @@ struct CoreMemory {
   std::uint32_t edge_rows = 0;  // rows of the edge schedule (edge_rows * lanes slots)
   std::uint32_t lanes = 1;
   MpmGlobals globals;
+  // The tool unit (a core built with it): its registers, and the reaction force of the
+  // last step (F format words, -sum of the tool's forces on the particles).
+  ToolRegs tool;
+  std::int64_t tool_reaction[3] = {0, 0, 0};
   std::uint32_t status = 0;
   std::uint32_t step_count = 0;
 };
@@ -924,8 +959,11 @@ struct CoreMemory {
 // step (the MPM pass starts after the edge pass), and the force sums are exact (wide,
 // saturated only when narrowed for the MPM), so neither the slot order nor the lane
 // assignment changes any bit.
+// With Tool (a core with the tool unit), each particle that is not fixed first meets the
+// tool: the tool's force joins its force sum (saturated once more) before the MPM, and the
+// reaction sums the forces exactly (hls/tool_contact.hpp).
 template <class Fmt, int Arms = 0, bool Damper = false, bool Hardening = false,
-          bool Volume = false>
+          bool Volume = false, bool Tool = false>
 inline std::int64_t core_step(CoreMemory& mem) {
   constexpr int W = Fmt::kWidth;
   const std::uint32_t lanes = mem.lanes;
@@ -1002,6 +1040,7 @@ edge_pass:
     }
   }
   i128 plate_acc = 0;
+  i128 tool_acc[3] = {0, 0, 0};
 mpm_pass:
   for (std::uint32_t i = 0; i < mem.num_particles && i < std::uint32_t(kMaxParticles); ++i) {
 #pragma HLS PIPELINE II = 1
@@ -1013,10 +1052,27 @@ mpm_pass:
       mem.force_start[i][a] = 0;
       mem.force_end[i][a] = 0;
     }
+    if constexpr (Tool) {
+      const MpmParticle& q = mem.particles[i];
+      if (!(q.flags & kCoreFixed)) {
+        const ToolOut t = tool_particle<Fmt>(q.x, q.p, mem.tool, &mem.status);
+        for (int a = 0; a < 3; ++a) {
+          f[a] = saturate(i128(f[a]) + t.f[a], W, &mem.status, kStatusMpmSaturated);
+          tool_acc[a] += t.f[a];
+        }
+      }
+    }
     plate_acc += mpm_particle<Fmt>(mem.particles[i], f, mem.globals, &mem.status);
+  }
+  if constexpr (Tool) {
+    for (int a = 0; a < 3; ++a)
+      mem.tool_reaction[a] = saturate(-tool_acc[a], W, &mem.status, kStatusToolReactionSaturated);
   }
   ++mem.step_count;
   return saturate(plate_acc, W, &mem.status, kStatusPlateSaturated);
 }
 
 }  // namespace rheo::hls
+
+// The tool unit's definition (it uses the primitives above).
+#include "hls/tool_contact.hpp"

@@ -30,33 +30,11 @@
 
 namespace rheo::hls {
 
-enum ToolKind : std::uint32_t {
-  kToolOff = 0,
-  kToolPlane = 1,
-  kToolSphere = 2,
-  kToolCylinder = 3,
-};
-
-// The tool registers of one step (the core holds them constant during the MPM pass).
-struct ToolRegs {
-  std::uint32_t kind = kToolOff;
-  std::int64_t c[3] = {0, 0, 0};   // position now (X format): plane point, sphere or cylinder centre
-  std::int64_t dc[3] = {0, 0, 0};  // displacement over the step (P format)
-  std::int64_t a[3] = {0, 0, 0};   // unit normal (plane) or axis (cylinder), Q1.(B-2) operands
-  std::int64_t reach = 0;          // X format: eps (plane), radius + eps (sphere, cylinder)
-  std::int64_t half_length = 0;    // X format: half the cylinder's length
-  Coef kt;                         // k Lu / Fu (CoefShifts::kKt)
-  Coef ct;                         // c Lu / (dt Fu) (CoefShifts::kCt)
-};
-
-struct ToolOut {
-  std::int64_t f[3] = {0, 0, 0};  // force on the particle (F format)
-  bool contact = false;
-};
-
+// (ToolKind, ToolRegs and ToolOut are declared in hls/rheo_kernel.hpp, beside the core's
+// memory that holds the registers.)
 template <class Fmt>
-inline ToolOut tool_particle(const std::int64_t x[3], const std::int64_t p[3], const ToolRegs& t,
-                             std::uint32_t* status) {
+ToolOut tool_particle(const std::int64_t x[3], const std::int64_t p[3], const ToolRegs& t,
+                      std::uint32_t* status) {
   constexpr int W = Fmt::kWidth;
   constexpr int B = Fmt::kOperandBits;
   constexpr Rounding R = Fmt::kRounding;

@@ -43,6 +43,7 @@ package rheo_consts_pkg;
   localparam int StatusBadCommand = 16;  // status bit
   localparam int StatusScheduleConflict = 32;  // status bit
   localparam int StatusVolumeSat = 64;  // status bit
+  localparam int StatusToolSat = 128;  // status bit
   localparam int VolOperandBits = 35;  // volume element: operands of V6's products
   localparam int FracV = 46;  // fractional bits of six-fold element volumes
   localparam int ShiftVolume = 80;  // extra shift of c*D*g: V, X^2 -> F
@@ -80,7 +81,20 @@ package rheo_consts_pkg;
   localparam int HardDamperTemExtra = 52;  // rheo_tem with StrainHardening and SeriesDamper: extra latency
   localparam int RegionMaterialHardening = 23;  // region
   localparam int HardeningCoefs = 3;  // hardening material entry: packed coefficients
-  localparam int NumRegions = 30;  // regions
+  localparam int NumRegions = 32;  // regions
+  localparam int RegionTool = 30;  // region: the tool unit's registers
+  localparam int RegionToolReaction = 31;  // region: the tool's reaction force
+  localparam int ToolRegisters = 14;  // tool unit: registers (region entries)
+  localparam int ToolReactionWords = 3;  // tool unit: reaction words
+  localparam int ToolKind = 0;  // tool register: kind (bits 1:0)
+  localparam int ToolCx = 1;  // tool register: position x, y, z follow (X format)
+  localparam int ToolDcx = 4;  // tool register: displacement over the step x, y, z follow (P)
+  localparam int ToolAx = 7;  // tool register: normal / axis x, y, z follow (Q1.16 operands)
+  localparam int ToolAz = 9;  // tool register: normal / axis z
+  localparam int ToolReach = 10;  // tool register: eps, or radius + eps (X format)
+  localparam int ToolHalfLength = 11;  // tool register: half the cylinder's length (X)
+  localparam int ToolKt = 12;  // tool register: kt (packed)
+  localparam int ToolCt = 13;  // tool register: ct (packed)
   localparam int GlobalNumParticles = 0;  // global register
   localparam int GlobalEdgeRows = 1;  // global register
   localparam int GlobalGravityX = 2;  // global register
@@ -181,6 +195,8 @@ package rheo_consts_pkg;
       HeaderRegionBits'(27): words_per_entry = EntryFieldW'(1);
       HeaderRegionBits'(28): words_per_entry = EntryFieldW'(2);
       HeaderRegionBits'(29): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(30): words_per_entry = EntryFieldW'(1);
+      HeaderRegionBits'(31): words_per_entry = EntryFieldW'(1);
       default: words_per_entry = '0;
     endcase
   endfunction

@@ -45,6 +45,7 @@
 //   rheo_core_readback.sv  READ command's word from the memories
 //   rheo_core_plate_acc.sv plate force of a step
 //   rheo_tem.sv, rheo_mpm.sv the lanes' edge and mass-point modules
+//   rheo_tool.sv           the lanes' tool units (ToolContact)
 // MaxwellArms = K (1..rheo_consts_pkg::MaxArms) builds the variant with K parallel Maxwell
 // arms in every TEM: per edge slot and arm j the arm's extension m_j (region EdgeArm + 2 j,
 // read and written like d) and per material gamma_j and k2t_j (region MaterialArm + 2 j).
@@ -67,6 +68,14 @@
 // rows; the host schedules the elements' rows after the edges' (make_core_image). A second
 // half that does not follow a first half in the lane's previous row, or an element slot on
 // a core without the unit, is a schedule conflict.
+// ToolContact = 1 builds the variant with a tool unit per lane (rheo_tool): each particle
+// the MPM pass reads meets one rigid tool (plane, sphere or cylinder, penalty force without
+// friction) whose registers the host writes before a step (region RegionTool). The unit
+// takes the particle's x and p at MPM stage 3, its other MPM inputs wait for it in a delay
+// line, and its force (none for fixed particles) joins the force sum, saturated once more,
+// in one more stage: the MPM pass runs ToolLatency + 1 clocks longer, and so does its drain
+// (the MPM drain of the cycle formula). The sums of the tool's forces (exact, PlateAccW
+// bits per axis) give the reaction force a READ of region RegionToolReaction returns.
 module rheo_core #(
   parameter int Lanes = 1,              // parallel TEM/MPM lanes and banks (1..4)
   parameter int MaxParticles = 4096,    // particle memory depth (all banks)
@@ -77,7 +86,8 @@ module rheo_core #(
   parameter int MaxwellArms = 0,        // parallel Maxwell arms per TEM (0..MaxArms)
   parameter int SeriesDamper = 0,       // force-dependent series damper in every TEM (0/1)
   parameter int StrainHardening = 0,    // strain hardening in every TEM (0/1)
-  parameter int VolumePreservation = 0  // a volume element unit per lane (0/1)
+  parameter int VolumePreservation = 0, // a volume element unit per lane (0/1)
+  parameter int ToolContact = 0         // a tool unit per lane in the MPM pass (0/1)
 ) (
   input  logic         clk_i,
   input  logic         rst_ni,
@@ -122,6 +132,7 @@ module rheo_core #(
                                                   : rheo_consts_pkg::HardTemExtra));
   // Carried through the TEM: {row, start local, end bank, end local}.
   localparam int TemIdxW = EAW + PAW + BW + PAW;
+  localparam int B = rheo_consts_pkg::OperandBits;
 
   if (W != rheo_consts_pkg::Width || CoefW != rheo_consts_pkg::CoefW) begin : g_check
     $error("rheo_core: W/CoefW must match rheo_consts_pkg");
@@ -150,10 +161,18 @@ module rheo_core #(
   logic [W-1:0] read_word;
   logic [31:0] lane_flags;
   logic [PlateAccW-1:0] plate_acc;
+  // The tool unit's registers (from the controller) and the sums of its forces.
+  logic [1:0] tool_kind;
+  logic [3*W-1:0] tool_c, tool_dc;
+  logic [3*B-1:0] tool_a;
+  logic [W-1:0] tool_reach, tool_half_len;
+  logic [CoefW-1:0] tool_kt, tool_ct;
+  logic [3*PlateAccW-1:0] tool_acc;
 
   rheo_core_ctrl #(
     .Lanes(Lanes), .MaxParticles(MaxParticles), .PDepth(PDepth), .EDepth(EDepth), .W(W),
-    .MaxwellArms(MaxwellArms), .SeriesDamper(SeriesDamper), .StrainHardening(StrainHardening)
+    .MaxwellArms(MaxwellArms), .SeriesDamper(SeriesDamper), .StrainHardening(StrainHardening),
+    .ToolContact(ToolContact)
   ) u_ctrl (
     .clk_i(clk_i), .rst_ni(rst_ni),
     .s_axis_tdata(s_axis_tdata), .s_axis_tvalid(s_axis_tvalid), .s_axis_tready(s_axis_tready),
@@ -168,7 +187,10 @@ module rheo_core #(
     .mpm_issue_o(mpm_issue), .plate_start_o(plate_start),
     .gravity_o(gravity), .floor_en_o(floor_en), .plate_en_o(plate_en), .plate_z_o(plate_z_q),
     .hold_en_o(hold_en), .plate_prev_o(plate_prev),
-    .read_word_i(read_word), .lane_flags_i(lane_flags), .plate_acc_i(plate_acc));
+    .read_word_i(read_word), .lane_flags_i(lane_flags), .plate_acc_i(plate_acc),
+    .tool_kind_o(tool_kind), .tool_c_o(tool_c), .tool_dc_o(tool_dc), .tool_a_o(tool_a),
+    .tool_reach_o(tool_reach), .tool_half_len_o(tool_half_len), .tool_kt_o(tool_kt),
+    .tool_ct_o(tool_ct), .tool_acc_i(tool_acc));
 
   // ---------------------------------------------------------------- lane signals
   // Edge pass, stage 1 (slot record read) and stage 2 (particles read, TEM input).
@@ -236,6 +258,15 @@ module rheo_core #(
   logic [3*W-1:0] mf3_q [Lanes], mx3_q [Lanes], mp3_q [Lanes], mx03_q [Lanes];
   logic [CoefW-1:0] mminv2_q [Lanes], mminv3_q [Lanes];
   logic [PFlagsW-1:0] mflags2m_q [Lanes], mflags3m_q [Lanes];
+  // MPM inputs: stage 3's registers, or (ToolContact) the stage after the tool unit.
+  logic mpm_in_valid [Lanes];
+  logic [PAW-1:0] mpm_in_idx [Lanes];
+  logic [3*W-1:0] mpm_in_f [Lanes], mpm_in_x [Lanes], mpm_in_p [Lanes], mpm_in_x0 [Lanes];
+  logic [CoefW-1:0] mpm_in_minv [Lanes];
+  logic [PFlagsW-1:0] mpm_in_flags [Lanes];
+  logic tool_flag [Lanes];  // the tool unit or its sum stage saturated (MPM saturation)
+  logic [Lanes-1:0] tool_push;  // lane j's tool force of this clock enters the reaction
+  logic [Lanes*3*W-1:0] tool_push_f;
   logic [Lanes-1:0] mpm_valid;
   logic mpm_sat [Lanes];
   logic [PAW-1:0] mpm_idx [Lanes];
@@ -380,17 +411,103 @@ module rheo_core #(
       end
     end
 
+    // ---- MPM pass stage 3 + ToolLatency (ToolContact): the tool's force joins the sum ----
+    if (ToolContact != 0) begin : g_tool
+      logic tool_valid, tool_contact, tool_sat;
+      logic [PAW-1:0] tool_idx;
+      logic [3*W-1:0] tool_f;
+      rheo_tool #(.W(W), .CoefW(CoefW), .IdxW(PAW)) u_tool (
+        .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(mreq3_q[j]), .idx_i(midx3_q[j]),
+        .x_i(mx3_q[j]), .p_i(mp3_q[j]),
+        .kind_i(tool_kind), .c_i(tool_c), .dc_i(tool_dc), .a_i(tool_a), .reach_i(tool_reach),
+        .half_len_i(tool_half_len), .kt_i(tool_kt), .ct_i(tool_ct),
+        .valid_o(tool_valid), .idx_o(tool_idx), .f_o(tool_f), .contact_o(tool_contact),
+        .sat_o(tool_sat));
+      // The particle's other MPM inputs wait for the unit (distributed-RAM delay lines).
+      localparam int WaitW = 12 * W + CoefW + PFlagsW;
+      logic [WaitW-1:0] wait_in, wait_out;
+      assign wait_in = {mf3_q[j], mx3_q[j], mp3_q[j], mx03_q[j], mminv3_q[j], mflags3m_q[j]};
+      rheo_delay #(.W(WaitW), .N(rheo_consts_pkg::ToolLatency)) u_wait (
+        .clk_i(clk_i), .rst_ni(rst_ni), .d_i(wait_in), .q_o(wait_out));
+      logic [3*W-1:0] wf, wx, wp, wx0;
+      logic [CoefW-1:0] wminv;
+      logic [PFlagsW-1:0] wflags;
+      assign {wf, wx, wp, wx0, wminv, wflags} = wait_out;
+      // A fixed particle does not meet the tool (the reference model skips it).
+      logic pushes;
+      assign pushes = tool_valid && tool_contact && !wflags[0];
+      assign tool_push[j] = pushes;
+      assign tool_push_f[j*3*W +: 3*W] = tool_f;
+      logic signed [W:0] fsum [3];
+      logic fclip;
+      always_comb begin
+        fclip = 1'b0;
+        for (int i = 0; i < 3; i++) begin
+          fsum[i] = (W+1)'($signed(wf[i*W +: W])) +
+                    (pushes ? (W+1)'($signed(tool_f[i*W +: W])) : '0);
+          fclip = fclip | (fsum[i][W] ^ fsum[i][W-1]);
+        end
+      end
+      logic vt_q, flag_q;
+      logic [PAW-1:0] idxt_q;
+      logic [3*W-1:0] ft_q, xt_q, pt_q, x0t_q;
+      logic [CoefW-1:0] minvt_q;
+      logic [PFlagsW-1:0] flagst_q;
+      always_ff @(posedge clk_i or negedge rst_ni) begin
+        if (!rst_ni) begin
+          vt_q <= 1'b0;
+          flag_q <= 1'b0;
+        end else begin
+          vt_q <= tool_valid;
+          flag_q <= tool_valid && !wflags[0] && (tool_sat || fclip);
+        end
+      end
+      always_ff @(posedge clk_i) begin
+        idxt_q <= tool_idx;
+        for (int i = 0; i < 3; i++) begin
+          if (fsum[i][W] ^ fsum[i][W-1]) ft_q[i*W +: W] <= {fsum[i][W], {(W-1){~fsum[i][W]}}};
+          else ft_q[i*W +: W] <= fsum[i][W-1:0];
+        end
+        xt_q <= wx;
+        pt_q <= wp;
+        x0t_q <= wx0;
+        minvt_q <= wminv;
+        flagst_q <= wflags;
+      end
+      assign mpm_in_valid[j] = vt_q;
+      assign mpm_in_idx[j] = idxt_q;
+      assign mpm_in_f[j] = ft_q;
+      assign mpm_in_x[j] = xt_q;
+      assign mpm_in_p[j] = pt_q;
+      assign mpm_in_x0[j] = x0t_q;
+      assign mpm_in_minv[j] = minvt_q;
+      assign mpm_in_flags[j] = flagst_q;
+      assign tool_flag[j] = flag_q;
+    end else begin : g_no_tool
+      assign mpm_in_valid[j] = mreq3_q[j];
+      assign mpm_in_idx[j] = midx3_q[j];
+      assign mpm_in_f[j] = mf3_q[j];
+      assign mpm_in_x[j] = mx3_q[j];
+      assign mpm_in_p[j] = mp3_q[j];
+      assign mpm_in_x0[j] = mx03_q[j];
+      assign mpm_in_minv[j] = mminv3_q[j];
+      assign mpm_in_flags[j] = mflags3m_q[j];
+      assign tool_flag[j] = 1'b0;
+      assign tool_push[j] = 1'b0;
+      assign tool_push_f[j*3*W +: 3*W] = '0;
+    end
+
     rheo_mpm #(.W(W), .CoefW(CoefW), .IdxW(PAW)) u_mpm (
       .clk_i     (clk_i),
       .rst_ni    (rst_ni),
-      .valid_i   (mreq3_q[j]),
-      .idx_i     (midx3_q[j]),
-      .f_i       (mf3_q[j]),
-      .x_i       (mx3_q[j]),
-      .p_i       (mp3_q[j]),
-      .x0_i      (mx03_q[j]),
-      .minv_i    (mminv3_q[j]),
-      .flags_i   (mflags3m_q[j]),
+      .valid_i   (mpm_in_valid[j]),
+      .idx_i     (mpm_in_idx[j]),
+      .f_i       (mpm_in_f[j]),
+      .x_i       (mpm_in_x[j]),
+      .p_i       (mpm_in_p[j]),
+      .x0_i      (mpm_in_x0[j]),
+      .minv_i    (mpm_in_minv[j]),
+      .flags_i   (mpm_in_flags[j]),
       .g_i       (gravity),
       .plate_z_i (plate_z_q),
       .plate_en_i(plate_en),
@@ -433,6 +550,24 @@ module rheo_core #(
     .clk_i(clk_i), .start_i(plate_start), .valid_i(mpm_valid), .plate_f_i(mpm_plate_f),
     .acc_o(plate_acc));
 
+  // The tool's forces of a step, per axis (the plate accumulator's adder, three times).
+  if (ToolContact != 0) begin : g_tool_acc
+    for (genvar i = 0; i < 3; i++) begin : g_axis
+      logic [Lanes*W-1:0] axis_f;
+      for (genvar j = 0; j < Lanes; j++) begin : g_lane_f
+        assign axis_f[j*W +: W] = tool_push_f[j*3*W + i*W +: W];
+      end
+      rheo_core_plate_acc #(.Lanes(Lanes), .W(W)) u_acc (
+        .clk_i(clk_i), .start_i(plate_start), .valid_i(tool_push), .plate_f_i(axis_f),
+        .acc_o(tool_acc[i*PlateAccW +: PlateAccW]));
+    end
+  end else begin : g_no_tool_acc
+    assign tool_acc = '0;
+    logic unused_tool;
+    assign unused_tool = ^{tool_kind, tool_c, tool_dc, tool_a, tool_reach, tool_half_len, tool_kt,
+                           tool_ct, tool_push, tool_push_f};
+  end
+
   // Status flags the lanes raise this clock (the controller makes them sticky).
   always_comb begin
     lane_flags = '0;
@@ -444,6 +579,7 @@ module rheo_core #(
       if (tem_deg[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusDegenerate);
       if (mpm_sat[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
       if (mclip3_q[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
+      if (tool_flag[j]) lane_flags = lane_flags | 32'(rheo_consts_pkg::StatusMpmSat);
     end
   end
 

@@ -20,11 +20,14 @@ module rheo_core_ctrl #(
   parameter int MaxwellArms = 0,        // parallel Maxwell arms: a region pair each
   parameter int SeriesDamper = 0,       // force-dependent series damper: its material region
   parameter int StrainHardening = 0,    // strain hardening: its material region, a longer drain
+  parameter int ToolContact = 0,        // the tool unit: its registers and reaction, a longer drain
   localparam int BW = (Lanes > 1) ? $clog2(Lanes) : 1,
   localparam int IdxCountW = rheo_consts_pkg::IdxCountW,
   localparam int RegionW = rheo_consts_pkg::HeaderRegionBits,
   localparam int FieldW = rheo_consts_pkg::EntryFieldW,
-  localparam int PlateAccW = rheo_consts_pkg::PlateAccW
+  localparam int PlateAccW = rheo_consts_pkg::PlateAccW,
+  localparam int B = rheo_consts_pkg::OperandBits,
+  localparam int CoefW = rheo_consts_pkg::CoefW
 ) (
   input  logic         clk_i,
   input  logic         rst_ni,
@@ -67,14 +70,27 @@ module rheo_core_ctrl #(
   // From the datapath.
   input  logic [W-1:0]         read_word_i,      // memory word of the entry (read-back mux)
   input  logic [31:0]          lane_flags_i,     // status flags raised this clock
-  input  logic [PlateAccW-1:0] plate_acc_i       // plate force of the step, complete in drain
+  input  logic [PlateAccW-1:0] plate_acc_i,      // plate force of the step, complete in drain
+  // The tool unit's registers (region RegionTool; ToolContact = 1) and the sums of the
+  // tool's forces on the particles of the step, complete in the drain.
+  output logic [1:0]           tool_kind_o,
+  output logic [3*W-1:0]       tool_c_o,
+  output logic [3*W-1:0]       tool_dc_o,
+  output logic [3*B-1:0]       tool_a_o,
+  output logic [W-1:0]         tool_reach_o,
+  output logic [W-1:0]         tool_half_len_o,
+  output logic [CoefW-1:0]     tool_kt_o,
+  output logic [CoefW-1:0]     tool_ct_o,
+  input  logic [3*PlateAccW-1:0] tool_acc_i
 );
   localparam int WideW = rheo_consts_pkg::WideW;
   localparam int TemDrain = rheo_consts_pkg::TemDrain +
                             ((StrainHardening == 0) ? 0 :
                              ((SeriesDamper != 0) ? rheo_consts_pkg::HardDamperTemExtra
                                                   : rheo_consts_pkg::HardTemExtra));
-  localparam int MpmDrain = rheo_consts_pkg::MpmDrain;
+  // The tool unit and its sum stage sit in front of the MPM (hls::EdgeElement::mpm_drain_cycles).
+  localparam int MpmDrain = rheo_consts_pkg::MpmDrain +
+                            ((ToolContact != 0) ? rheo_consts_pkg::ToolLatency + 1 : 0);
   localparam int OpW = rheo_consts_pkg::HeaderOpcodeBits;
   localparam int CoreRegions = rheo_consts_pkg::NumBaseRegions + 2 * MaxwellArms;
   localparam int MaxDrain = TemDrain > MpmDrain ? TemDrain : MpmDrain;
@@ -120,6 +136,21 @@ module rheo_core_ctrl #(
   logic plate_hold_en_q, plate_hold_en_d, plate_prev_valid_q, plate_prev_valid_d;
   logic [W-1:0] plate_prev_q, plate_prev_d;
   logic [31:0] status_q, status_d, step_count_q, step_count_d, cycle_count_q, cycle_count_d;
+  // The tool unit's registers, and the reaction words of the last step.
+  // Flat vectors (register r at [r*W +: W]): Yosys 0.23 copies unpacked arrays poorly.
+  localparam int ToolRegs = rheo_consts_pkg::ToolRegisters;
+  logic [ToolRegs*W-1:0] tool_word_q, tool_word_d;
+  logic [3*W-1:0] reaction_q, reaction_d;
+
+  // A tool register as it reads back.
+  function automatic logic [W-1:0] tool_reg_word(input int r);
+    if (r == rheo_consts_pkg::ToolKind) tool_reg_word = W'(tool_word_q[r*W +: 2]);
+    else if (r >= rheo_consts_pkg::ToolAx && r <= rheo_consts_pkg::ToolAz)
+      tool_reg_word = W'($signed(tool_word_q[r*W +: B]));
+    else if (r == rheo_consts_pkg::ToolKt || r == rheo_consts_pkg::ToolCt)
+      tool_reg_word = W'(tool_word_q[r*W +: CoefW]);
+    else tool_reg_word = tool_word_q[r*W +: W];
+  endfunction
 
   // ---------------------------------------------------------------- command fields
   logic [OpW-1:0] hdr_opcode;
@@ -174,6 +205,29 @@ module rheo_core_ctrl #(
   assign plate_z_o = plate_z_q;
   assign hold_en_o = plate_hold_en_q & plate_prev_valid_q;
   assign plate_prev_o = plate_prev_q;
+  assign tool_kind_o = tool_word_q[rheo_consts_pkg::ToolKind*W +: 2];
+  for (genvar i = 0; i < 3; i++) begin : g_tool_vec
+    assign tool_c_o[i*W +: W] = tool_word_q[(rheo_consts_pkg::ToolCx + i)*W +: W];
+    assign tool_dc_o[i*W +: W] = tool_word_q[(rheo_consts_pkg::ToolDcx + i)*W +: W];
+    assign tool_a_o[i*B +: B] = tool_word_q[(rheo_consts_pkg::ToolAx + i)*W +: B];
+  end
+  assign tool_reach_o = tool_word_q[rheo_consts_pkg::ToolReach*W +: W];
+  assign tool_half_len_o = tool_word_q[rheo_consts_pkg::ToolHalfLength*W +: W];
+  assign tool_kt_o = tool_word_q[rheo_consts_pkg::ToolKt*W +: CoefW];
+  assign tool_ct_o = tool_word_q[rheo_consts_pkg::ToolCt*W +: CoefW];
+  // The word a READ of the tool's regions returns (as the core holds the registers: the
+  // kind's two bits, the operands sign-extended, the coefficients' packed bits).
+  logic [W-1:0] tool_read_word;
+  always_comb begin
+    tool_read_word = '0;
+    if (region_q == RegionW'(rheo_consts_pkg::RegionToolReaction)) begin
+      for (int i = 0; i < 3; i++)
+        if (index_q == IdxCountW'(i)) tool_read_word = reaction_q[i*W +: W];
+    end else begin
+      for (int r = 0; r < ToolRegs; r++)
+        if (index_q == IdxCountW'(r)) tool_read_word = tool_reg_word(r);
+    end
+  end
 
 `ifndef SYNTHESIS
   // Stream protocol and FSM invariants (rtl/rheo_stream_checker.sv): asserted in every
@@ -257,6 +311,8 @@ module rheo_core_ctrl #(
     plate_prev_valid_d = plate_prev_valid_q;
     plate_prev_d = plate_prev_q;
     step_count_d = step_count_q;
+    tool_word_d = tool_word_q;
+    reaction_d = reaction_q;
     // Flags are sticky; a later assignment in a state replaces this one (a bad command's
     // flag is set from status_q alone, as before the split).
     status_d = status_q | lane_flags_i;
@@ -284,7 +340,10 @@ module rheo_core_ctrl #(
                   !(SeriesDamper != 0 &&
                     hdr_region == RegionW'(rheo_consts_pkg::RegionMaterialDamper)) &&
                   !(StrainHardening != 0 &&
-                    hdr_region == RegionW'(rheo_consts_pkg::RegionMaterialHardening)))
+                    hdr_region == RegionW'(rheo_consts_pkg::RegionMaterialHardening)) &&
+                  !(ToolContact != 0 &&
+                    (hdr_region == RegionW'(rheo_consts_pkg::RegionTool) ||
+                     hdr_region == RegionW'(rheo_consts_pkg::RegionToolReaction))))
                 status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
               else if (hdr_opcode == OpW'(rheo_consts_pkg::OpRead))
                 state_d = StRStart;
@@ -348,6 +407,10 @@ module rheo_core_ctrl #(
               default: status_d = status_q | 32'(rheo_consts_pkg::StatusBadCommand);
             endcase
           end
+          if (ToolContact != 0 && region_q == RegionW'(rheo_consts_pkg::RegionTool)) begin
+            for (int r = 0; r < ToolRegs; r++)
+              if (index_q == IdxCountW'(r)) tool_word_d[r*W +: W] = s_axis_tdata;
+          end
           if (entry_done) begin
             field_d = '0;
             index_d = index_q + IdxCountW'(1);
@@ -362,7 +425,10 @@ module rheo_core_ctrl #(
       end
       StRFetch: state_d = StRLoad;
       StRLoad: begin
-        out_data_d = read_word_i;
+        out_data_d = (ToolContact != 0 &&
+                      (region_q == RegionW'(rheo_consts_pkg::RegionTool) ||
+                       region_q == RegionW'(rheo_consts_pkg::RegionToolReaction)))
+                         ? tool_read_word : read_word_i;
         out_valid_d = 1'b1;
         out_last_d = (count_q == IdxCountW'(1)) && entry_done;
         state_d = StRSend;
@@ -442,6 +508,15 @@ module rheo_core_ctrl #(
           out_data_d = rheo_consts_pkg::sat_word(WideW'(signed'(plate_acc_i)));
           if (rheo_consts_pkg::clips(WideW'(signed'(plate_acc_i)), W))
             status_d = status_q | lane_flags_i | 32'(rheo_consts_pkg::StatusPlateSat);
+          if (ToolContact != 0) begin
+            // the reaction: minus the sum of the tool's forces on the particles
+            for (int i = 0; i < 3; i++) begin
+              reaction_d[i*W +: W] = rheo_consts_pkg::sat_word(
+                  -WideW'(signed'(tool_acc_i[i*PlateAccW +: PlateAccW])));
+              if (rheo_consts_pkg::clips(-WideW'(signed'(tool_acc_i[i*PlateAccW +: PlateAccW])), W))
+                status_d = status_d | lane_flags_i | 32'(rheo_consts_pkg::StatusToolSat);
+            end
+          end
           out_valid_d = 1'b1;
           out_last_d = (count_q == IdxCountW'(1));
           step_count_d = step_count_q + 32'd1;
@@ -496,6 +571,8 @@ module rheo_core_ctrl #(
       status_q <= '0;
       step_count_q <= '0;
       cycle_count_q <= '0;
+      tool_word_q <= '0;
+      reaction_q <= '0;
     end else begin
       state_q <= state_d;
       reading_q <= reading_d;
@@ -528,6 +605,8 @@ module rheo_core_ctrl #(
       status_q <= status_d;
       step_count_q <= step_count_d;
       cycle_count_q <= cycle_count_d;
+      tool_word_q <= tool_word_d;
+      reaction_q <= reaction_d;
     end
   end
 endmodule

@@ -19,6 +19,7 @@ set(RHEO_RTL_VOLUME_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_volume.sv)
 set(RHEO_RTL_CORE_FILES
   ${RHEO_RTL_TEM_FILES}
   rheo_mpm.sv
+  rheo_tool.sv
   rheo_ram_sdp.sv
   rheo_ram_tdp.sv
   rheo_force_acc.sv

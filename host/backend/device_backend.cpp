@@ -4,12 +4,14 @@
 // are listed, never silently dropped) and driver::make_core_image; the core variant is the
 // one with as many Maxwell arms as the model's materials have (driver::edge_element_for).
 #include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include "host/backend/backend.hpp"
 #include "host/driver/core_image.hpp"
 #include "host/driver/device.hpp"
 #include "host/driver/link/device_factory.hpp"
+#include "host/driver/tool_regs.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::backend {
@@ -61,6 +63,50 @@ class DeviceBackend : public Backend {
     }
     t_ = state.t;
     dt_ = dt;
+    tool_posed_ = false;
+    if (!hw_.tools.empty()) {
+      // The core's tool unit returns the reaction force only.
+      dropped_.push_back("the tool's reaction torque and contact count (the core's tool unit "
+                         "returns the reaction force; tools.csv has 0 for them)");
+    }
+  }
+
+  // A model with one tool on a core with the tool unit (hardware_model refused anything
+  // else): per step, the tool's registers for its move, one step, the reaction read back.
+  std::vector<double> run_tools(std::span<const double> plate_z, std::span<const ToolPose> poses,
+                                std::vector<ToolReaction>& reactions) override {
+    const driver::CoreImage& img = loaded();
+    const std::size_t tools = hw_.tools.size();
+    if (tools == 0) return Backend::run_tools(plate_z, poses, reactions);
+    if (poses.size() != plate_z.size() * tools) {
+      throw Error(name() + ": " + std::to_string(poses.size()) + " tool poses for " +
+                  std::to_string(plate_z.size()) + " steps of " + std::to_string(tools) +
+                  " tools");
+    }
+    reactions.assign(poses.size(), ToolReaction{});
+    std::vector<double> force;
+    force.reserve(plate_z.size());
+    for (std::size_t k = 0; k < plate_z.size(); ++k) {
+      const ToolPose& now = poses[k];
+      if (!now.position.allFinite() || !std::isfinite(now.q)) {
+        throw Error(name() + ": the pose of tool 0 (\"" + hw_.tools[0].name +
+                    "\") is not finite at step " + std::to_string(k));
+      }
+      // The first pose ever given: the tool was there before (it starts at rest), as in
+      // the reference (Simulator::set_tool_poses).
+      if (!tool_posed_) tool_before_ = now;
+      tool_posed_ = true;
+      device_->write_tool(driver::encode_tool(hw_.tools[0], 0, tool_before_, now, img));
+      const std::int32_t plate =
+          static_cast<std::int32_t>(driver::to_x_word(plate_z[k], img, "plate height"));
+      force.push_back(driver::from_f_word(device_->run({plate})[0], img));
+      const std::array<std::int32_t, 3> r = device_->read_tool_reaction();
+      reactions[k].force = Vec3(driver::from_f_word(r[0], img), driver::from_f_word(r[1], img),
+                                driver::from_f_word(r[2], img));
+      tool_before_ = now;
+      t_ += dt_;
+    }
+    return force;
   }
 
   std::vector<double> run(std::span<const double> plate_z) override {
@@ -136,6 +182,8 @@ class DeviceBackend : public Backend {
   hls::EdgeElement element_ = hls::kThreeElement;
   Model hw_;  // the model the core computes (arm extensions map back into its state)
   double t_ = 0.0, dt_ = 0.0;
+  bool tool_posed_ = false;  // a tool pose was given since the load
+  ToolPose tool_before_;     // the tool's pose in the last step
 };
 
 }  // namespace

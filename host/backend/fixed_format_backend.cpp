@@ -49,6 +49,10 @@ class FixedFormatBackend final : public Backend {
   std::string arithmetic() const override { return "fixed-point " + name(); }
 
   void load(const Model& model, const State& state, const SimOptions& options) override {
+    if (!model.tools.empty()) {
+      throw Error(name() + ": the model has tools, which the format study does not compute; "
+                  "run it on --backend ref, bittrue or rtl");
+    }
     // The core variant whose edge element computes the model's edges (its Maxwell arms).
     element_ = driver::edge_element_for(model);
     hw_ = driver::hardware_model(model, &dropped_, element_);

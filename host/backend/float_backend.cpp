@@ -18,6 +18,10 @@ class FloatBackend : public Backend {
 
   void load(const Model& model, const State& state, const SimOptions& options) override {
     const double dt = options.dt;
+    if (!model.tools.empty()) {
+      throw Error("float backend: the model has tools, which it does not compute; run it on "
+                  "--backend ref, bittrue or rtl");
+    }
     model_ = std::make_unique<Model>(driver::hardware_model(model, &dropped_, driver::edge_element_for(model)));
     check_hardware_step(*model_, options, dropped_);
     loop_ = std::make_unique<SieLoop<float>>(*model_, dt);

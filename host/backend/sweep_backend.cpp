@@ -30,6 +30,10 @@ class SweepBackend : public Backend {
 
   void load(const Model& model, const State& state, const SimOptions& options) override {
     dropped_.clear();
+    if (!model.tools.empty()) {
+      throw Error("the model has tools, and the sweep core has no tool unit (docs/hardware.md, "
+                  "\"Contact and tools\"); run it on --backend ref, bittrue or rtl");
+    }
     const Model hw = driver::hardware_model(model, &dropped_, hls::kThreeElement);
     check_hardware_step(hw, options, dropped_);
     if (!device_) {

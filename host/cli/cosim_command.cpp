@@ -102,6 +102,10 @@ void run(const CosimArgs& args) {
   j["final_max_pos_err_rel"] = r.final_max_pos_err_rel;
   j["max_force_err_rel"] = r.max_force_err_rel;
   j["max_force_ref_N"] = r.max_force_ref_N;
+  if (!r.tool_force_fixed_N.empty()) {
+    j["max_tool_force_err_rel"] = r.max_tool_force_err_rel;
+    j["max_tool_force_ref_N"] = r.max_tool_force_ref_N;
+  }
   j["cycles_per_step_measured"] = r.cycles_per_step_measured;
   j["cycles_per_step_formula"] = r.cycles_per_step_formula;
   const hls::EdgeElement* element = hls::find_edge_element(r.element);
@@ -114,7 +118,8 @@ void run(const CosimArgs& args) {
     j["cycles_per_step_formula_text"] =
         "max(R,1) + " +
         std::to_string(element ? element->tem_drain_cycles() : driver::kTemDrainCycles) +
-        " + ceil(N/lanes) + " + std::to_string(driver::kMpmDrainCycles) +
+        " + ceil(N/lanes) + " +
+        std::to_string(element ? element->mpm_drain_cycles() : driver::kMpmDrainCycles) +
         ", R = rows of the edge schedule";
   }
   j["sim_cycles"] = r.sim_cycles;
@@ -158,7 +163,12 @@ void run(const CosimArgs& args) {
             << ", mismatches " << r.mismatches << "\n"
             << "  fixed vs double: max position error " << r.max_pos_err_rel
             << " of the object size (RMS " << r.rms_pos_err_rel << "), plate force error "
-            << r.max_force_err_rel << " of the peak\n"
+            << r.max_force_err_rel << " of the peak"
+            << (r.tool_force_fixed_N.empty()
+                    ? std::string()
+                    : ", tool reaction error " + std::to_string(r.max_tool_force_err_rel) +
+                          " of its peak " + std::to_string(r.max_tool_force_ref_N) + " N")
+            << "\n"
             << "  cycles per step: measured " << r.cycles_per_step_measured << ", formula "
             << r.cycles_per_step_formula << "; Verilator " << r.sim_cycles_per_s << " cycles/s\n"
             << "  particle state compared every " << r.compare_every << " step(s)"
@@ -167,7 +177,8 @@ void run(const CosimArgs& args) {
                           " cycles, a step " + std::to_string(r.step_cycles) +
                           "; --compare-every 1 compares every step)"
                     : std::string())
-            << ", the plate force every step\n"
+            << (r.tool_force_fixed_N.empty() ? ", the plate force every step\n"
+                                             : ", the plate force and the tool's reaction every step\n")
             << "  wrote " << (fs::path(out.target()) / "cosim.json").string() << "\n";
   // The waveform comes last, so that its path is the last thing on the screen (also when
   // the run found a mismatch: that is when it is wanted).

@@ -190,9 +190,11 @@ const hls::EdgeElement* tem_element(const std::string& label) {
 }
 // The whole core built for an edge element: "core" (the baseline), "core_damper",
 // "core_arms8", ... (the suffix of its TEM design).
-// A core with volume elements adds "_volume" (its TEM is the edge element's without them).
+// A core with volume elements adds "_volume", one with the tool unit "_tool" (its TEM is the
+// edge element's without them).
 std::string core_label(const hls::EdgeElement& e) {
-  return "core" + tem_label(e).substr(3) + (e.volume_preservation ? "_volume" : "");
+  return "core" + tem_label(e).substr(3) + (e.volume_preservation ? "_volume" : "") +
+         (e.tool_contact ? "_tool" : "");
 }
 const hls::EdgeElement* core_element(const std::string& label) {
   for (const hls::EdgeElement& e : hls::kEdgeElements) {
@@ -203,7 +205,7 @@ const hls::EdgeElement* core_element(const std::string& label) {
 std::string design_names() {
   std::string names;
   for (const hls::EdgeElement& e : hls::kEdgeElements)
-    if (!e.volume_preservation) names += tem_label(e) + ", ";
+    if (!e.volume_preservation && !e.tool_contact) names += tem_label(e) + ", ";
   names += "mpm";
   for (const hls::EdgeElement& e : hls::kEdgeElements) names += ", " + core_label(e);
   return names + ", sweep";
@@ -219,7 +221,8 @@ json feature_costs(const std::map<std::string, synth::SynthResult>& results) {
     if (base == results.end()) continue;
     const Resources& b = base->second.resources;
     for (const hls::EdgeElement& e : hls::kEdgeElements) {
-      if (std::string(kind) == "tem" && e.volume_preservation) continue;  // another's TEM
+      if (std::string(kind) == "tem" && (e.volume_preservation || e.tool_contact))
+        continue;  // another's TEM
       const std::string label = std::string(kind) == "tem" ? tem_label(e) : core_label(e);
       const auto it = results.find(label);
       if (label == kind || it == results.end()) continue;

@@ -28,7 +28,7 @@ std::string CosimMismatch::describe() const {
   os.precision(17);
   os << "step " << step << ", ";
   if (particle < 0)
-    os << "plate force";
+    os << (field == "plate_force" ? "plate force" : field);
   else
     os << "particle " << particle << ", field " << field;
   os << ": " << dut_name << " " << dut << " != " << golden_name << " " << golden;
@@ -99,6 +99,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
       res.first.push_back({step, particle, field, d, g, opt.dut, opt.golden});
   };
 
+  const std::size_t tools = model.tools.size();
   long step = 0;
   const bool automatic = opt.compare_every == 0;
   // Simulated cycles so far (automatic K; 0 with a core that has no clock).
@@ -113,16 +114,39 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     const bool traced = !opt.trace_fst.empty() && (opt.trace_steps == 0 || step < opt.trace_steps);
     dut->set_tracing(traced);
     std::vector<double> plate_z(batch);
-    for (long b = 0; b < batch; ++b) plate_z[b] = scenario.plate_z(model, step + b + 1);
-    const std::vector<double> f_golden = golden->run(plate_z);
+    std::vector<ToolPose> poses;
+    for (long b = 0; b < batch; ++b) {
+      plate_z[b] = scenario.plate_z(model, step + b + 1);
+      if (tools > 0) {
+        const std::vector<ToolPose> p = scenario.tool_poses(step + b + 1);
+        poses.insert(poses.end(), p.begin(), p.end());
+      }
+    }
+    // A model with tools: their poses each step, and their reactions compared as well.
+    std::vector<ToolReaction> r_golden, r_dut, r_ref;
+    auto run = [&](backend::Backend& b, std::vector<ToolReaction>& r) {
+      return tools > 0 ? b.run_tools(plate_z, poses, r) : b.run(plate_z);
+    };
+    const std::vector<double> f_golden = run(*golden, r_golden);
     const std::uint64_t batch_start = dut->trace_time();
-    const std::vector<double> f_dut = dut->run(plate_z);
+    const std::vector<double> f_dut = run(*dut, r_dut);
     if (traced) res.traced.push_back({step + 1, batch, batch_start, dut->trace_time()});
-    const std::vector<double> f_ref = ref ? ref->run(plate_z) : std::vector<double>{};
+    const std::vector<double> f_ref = ref ? run(*ref, r_ref) : std::vector<double>{};
     for (long b = 0; b < batch; ++b) {
       if (f_dut[b] != f_golden[b]) mismatch(step + b + 1, -1, "plate_force", f_dut[b], f_golden[b]);
       res.force_fixed_N.push_back(f_golden[b]);
       if (ref) res.force_ref_N.push_back(f_ref[b]);
+      for (std::size_t t = 0; t < tools; ++t) {
+        const std::size_t k = std::size_t(b) * tools + t;
+        for (int a = 0; a < 3; ++a) {
+          if (r_dut[k].force[a] != r_golden[k].force[a]) {
+            mismatch(step + b + 1, -1, "tool " + std::to_string(t) + " force " + "xyz"[a],
+                     r_dut[k].force[a], r_golden[k].force[a]);
+          }
+        }
+        res.tool_force_fixed_N.push_back(r_golden[k].force);
+        if (ref) res.tool_force_ref_N.push_back(r_ref[k].force);
+      }
     }
     step += batch;
     // Every particle position and velocity of the core under test against the golden core.
@@ -171,6 +195,13 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     }
     res.max_force_ref_N = fmax;
     res.max_force_err_rel = fmax > 0.0 ? emax / fmax : emax;
+    double tmax = 0.0, temax = 0.0;
+    for (std::size_t i = 0; i < res.tool_force_ref_N.size(); ++i) {
+      tmax = std::max(tmax, res.tool_force_ref_N[i].norm());
+      temax = std::max(temax, (res.tool_force_fixed_N[i] - res.tool_force_ref_N[i]).norm());
+    }
+    res.max_tool_force_ref_N = tmax;
+    res.max_tool_force_err_rel = tmax > 0.0 ? temax / tmax : temax;
   }
   if (const std::optional<backend::CoreClock> clock_end = dut->clock(); clock_end && clock_start) {
     res.cycles_per_step_measured =

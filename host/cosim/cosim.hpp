@@ -42,7 +42,7 @@ struct CosimOptions {
 
 struct CosimMismatch {
   long step = 0;
-  int particle = -1;  // -1: the plate force
+  int particle = -1;  // -1: the plate force or a tool's reaction (field)
   std::string field;
   double dut = 0.0, golden = 0.0;
   std::string dut_name = "rtl", golden_name = "bittrue";
@@ -72,6 +72,11 @@ struct CosimResult {
   std::string element;  // the cores' edge element (hls::EdgeElement::name)
   std::vector<std::string> dropped_features;
   std::vector<double> force_fixed_N, force_ref_N;  // per step
+  // A model with tools: the reaction force on each tool per step (step after step), of the
+  // golden core and the reference, and the largest |difference| / max |reference|.
+  std::vector<Vec3> tool_force_fixed_N, tool_force_ref_N;
+  double max_tool_force_err_rel = 0.0;
+  double max_tool_force_ref_N = 0.0;
   // With a waveform: the FST times of each traced batch of steps (compare_every steps),
   // from its RUN command to its last force word.
   std::vector<driver::TracedSteps> traced;

@@ -13,6 +13,53 @@ using hls::unpack_coef;
 
 std::int64_t sword(std::uint32_t w) { return static_cast<std::int32_t>(w); }
 
+constexpr int kOperandBits = Fmt::kOperandBits;
+
+// The tool unit's registers as the RTL holds them: the kind in 2 bits, the normal or axis
+// as operands (the word's low bits, sign-extended), the coefficients packed; an index
+// beyond the registers is ignored.
+void write_tool_register(hls::ToolRegs& t, std::uint32_t index, std::uint32_t w) {
+  const auto operand = [](std::uint32_t v) {
+    return static_cast<std::int64_t>(static_cast<std::int32_t>(v << (32 - kOperandBits)) >>
+                                     (32 - kOperandBits));
+  };
+  switch (index) {
+    case frame::kToolKind: t.kind = w & 3u; break;
+    case frame::kToolCx: case frame::kToolCy: case frame::kToolCz:
+      t.c[index - frame::kToolCx] = sword(w);
+      break;
+    case frame::kToolDcx: case frame::kToolDcy: case frame::kToolDcz:
+      t.dc[index - frame::kToolDcx] = sword(w);
+      break;
+    case frame::kToolAx: case frame::kToolAy: case frame::kToolAz:
+      t.a[index - frame::kToolAx] = operand(w);
+      break;
+    case frame::kToolReach: t.reach = sword(w); break;
+    case frame::kToolHalfLength: t.half_length = sword(w); break;
+    case frame::kToolKt: t.kt = unpack_coef(w); break;
+    case frame::kToolCt: t.ct = unpack_coef(w); break;
+    default: break;
+  }
+}
+
+std::uint32_t read_tool_register(const hls::ToolRegs& t, std::uint32_t index) {
+  const auto word = [](std::int64_t v) { return static_cast<std::uint32_t>(v); };
+  switch (index) {
+    case frame::kToolKind: return t.kind;
+    case frame::kToolCx: case frame::kToolCy: case frame::kToolCz:
+      return word(t.c[index - frame::kToolCx]);
+    case frame::kToolDcx: case frame::kToolDcy: case frame::kToolDcz:
+      return word(t.dc[index - frame::kToolDcx]);
+    case frame::kToolAx: case frame::kToolAy: case frame::kToolAz:
+      return word(t.a[index - frame::kToolAx]);
+    case frame::kToolReach: return word(t.reach);
+    case frame::kToolHalfLength: return word(t.half_length);
+    case frame::kToolKt: return hls::pack_coef(t.kt);
+    case frame::kToolCt: return hls::pack_coef(t.ct);
+    default: return 0;
+  }
+}
+
 }  // namespace
 
 BitTrueTransport::BitTrueTransport(int lanes, const hls::EdgeElement& element)
@@ -135,6 +182,11 @@ void BitTrueTransport::write_word(std::uint32_t region, std::uint32_t index, std
       if (field < frame::kHardeningCoefs) *coefs[field] = unpack_coef(w);
       return;
     }
+    case frame::kRegionTool:
+      write_tool_register(m.tool, index, w);
+      return;
+    case frame::kRegionToolReaction:
+      return;  // read only
     default: {
       // Maxwell arm j: its coefficients per material, its extension per edge slot.
       const int arm = frame::arm_of_region(region);
@@ -162,6 +214,10 @@ std::uint32_t BitTrueTransport::read_word(std::uint32_t region, std::uint32_t in
   }
   if (frame::is_edge_arm_region(region) && index < std::uint32_t(hls::kMaxEdges)) {
     return static_cast<std::uint32_t>(m.edges[index].m[frame::arm_of_region(region)]);
+  }
+  if (region == frame::kRegionTool) return read_tool_register(m.tool, index);
+  if (region == frame::kRegionToolReaction && index < frame::kToolReactionWords) {
+    return static_cast<std::uint32_t>(m.tool_reaction[index]);
   }
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "hls/frame_format.hpp"
+#include "host/driver/tool_regs.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::driver {
@@ -135,7 +136,7 @@ long cycles_per_step_formula(int edge_rows, int num_particles, int lanes,
                              const hls::EdgeElement& element) {
   const long particle_rows = (long(num_particles) + lanes - 1) / lanes;
   return std::max<long>(edge_rows, 1) + element.tem_drain_cycles() + particle_rows +
-         kMpmDrainCycles;
+         element.mpm_drain_cycles();
 }
 
 EdgeSchedule schedule_edges(const std::vector<std::pair<int, int>>& ends, int lanes) {
@@ -388,7 +389,8 @@ const hls::EdgeElement& edge_element_for(const Model& model) {
     hardening = hardening || m.hardening != 0.0;
   }
   const bool volume = model.volume.enabled;
-  if (const hls::EdgeElement* e = hls::edge_element_with(arms, damper, hardening, volume))
+  const bool tool = !model.tools.empty();
+  if (const hls::EdgeElement* e = hls::edge_element_with(arms, damper, hardening, volume, tool))
     return *e;
   // More arms than any core carries: the core with the most arms (and the damper,
   // hardening and volume elements when the model has them); hardware_model drops the arms
@@ -406,10 +408,24 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped,
     throw Error("the model has contact among objects, which the cores do not compute "
                 "(docs/hardware.md, \"Contact and tools\"); run it on --backend ref");
   }
+  // Tools: the core's tool unit computes one plane, sphere or cylinder without friction;
+  // anything else would change the scene, so it is refused as well.
   if (!model.tools.empty()) {
-    throw Error("the model has " + std::to_string(model.tools.size()) +
-                " tools, whose contact the cores do not compute yet (docs/hardware.md, "
-                "\"Contact and tools\"); run it on --backend ref");
+    const std::string why = " (docs/hardware.md, \"Contact and tools\"); run it on --backend ref";
+    if (!element.tool_contact) {
+      throw Error("the model has " + std::to_string(model.tools.size()) +
+                  " tools, and the " + std::string(element.name) +
+                  " core has no tool unit (the three-element+tool core has one)" + why);
+    }
+    if (model.tools.size() > 1) {
+      throw Error("the model has " + std::to_string(model.tools.size()) +
+                  " tools; the core's tool unit computes one" + why);
+    }
+    const std::string gap = tool_hardware_gap(model.tools[0]);
+    if (!gap.empty()) {
+      throw Error("tool 0 (\"" + model.tools[0].name + "\"): the core's tool unit does not compute " +
+                  gap + why);
+    }
   }
   Model hw = model;
   std::vector<std::string> notes;

@@ -15,6 +15,7 @@ std::string describe_status_flags(std::uint32_t flags) {
       {hls::kStatusBadCommand, "bad command"},
       {hls::kStatusScheduleConflict, "edge schedule conflict"},
       {hls::kStatusVolumeSaturated, "volume element force saturated"},
+      {hls::kStatusToolReactionSaturated, "tool reaction force saturated"},
   };
   std::string out;
   for (const auto& [bit, name] : kNames) {
@@ -85,6 +86,30 @@ std::vector<std::int32_t> Device::read_arm_extensions(int arm, int first, int co
                 std::to_string(frame::kMaxArms - 1));
   }
   return read_region(frame::edge_arm_region(arm), first, count);
+}
+
+void Device::write_tool(const hls::ToolRegs& t) {
+  const auto word = [](std::int64_t v) { return static_cast<std::uint32_t>(v); };
+  std::vector<std::uint32_t> w = {
+      frame::header(frame::kOpWrite, frame::kRegionTool, frame::kNumToolRegisters), 0u};
+  w.resize(2 + frame::kNumToolRegisters);
+  std::uint32_t* r = w.data() + 2;
+  r[frame::kToolKind] = t.kind;
+  for (int a = 0; a < 3; ++a) {
+    r[frame::kToolCx + a] = word(t.c[a]);
+    r[frame::kToolDcx + a] = word(t.dc[a]);
+    r[frame::kToolAx + a] = word(t.a[a]);
+  }
+  r[frame::kToolReach] = word(t.reach);
+  r[frame::kToolHalfLength] = word(t.half_length);
+  r[frame::kToolKt] = hls::pack_coef(t.kt);
+  r[frame::kToolCt] = hls::pack_coef(t.ct);
+  transport_->send(w);
+}
+
+std::array<std::int32_t, 3> Device::read_tool_reaction() {
+  const std::vector<std::int32_t> w = read_region(frame::kRegionToolReaction, 0, 3);
+  return {w[0], w[1], w[2]};
 }
 
 CoreStatus Device::read_status(bool clear) {

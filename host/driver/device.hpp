@@ -4,11 +4,13 @@
 // reported as rheo::Error, never passed on as numbers.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "hls/rheo_kernel.hpp"
 #include "host/driver/core_image.hpp"
 #include "host/driver/transport.hpp"
 
@@ -44,6 +46,11 @@ class Device {
   // m_arm (Maxwell arm `arm`'s extension) of `count` edge slots; cores with that arm only.
   std::vector<std::int32_t> read_arm_extensions(int arm, int first, int count);
   CoreStatus read_status(bool clear);
+  // The tool unit (a core built with it, hls::EdgeElement::tool_contact): its registers for
+  // the next step (driver::encode_tool), and the reaction force words (x, y, z, F format) of
+  // the last step.
+  void write_tool(const hls::ToolRegs& regs);
+  std::array<std::int32_t, 3> read_tool_reaction();
 
   Transport& transport() { return *transport_; }
 

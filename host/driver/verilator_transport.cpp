@@ -20,6 +20,8 @@
 #include "Vrheo_core_l2.h"
 #include "Vrheo_core_l4.h"
 #include "Vrheo_core_xinit_l1.h"
+#include "Vrheo_core_tool_l1.h"
+#include "Vrheo_core_tool_l2.h"
 #include "Vrheo_sweep_l5.h"
 #pragma GCC diagnostic pop
 
@@ -201,6 +203,15 @@ VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) : sweep_(o.swe
     if (o.lanes != 1 || o.element != hls::kThreeElement)
       throw Error("RTL core with random power-up state: built for 1 lane without the arm");
     impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
+  } else if (o.element == hls::kThreeElementWithTool) {
+    // The tool core at one and two lanes (its units per lane).
+    if (o.lanes == 1)
+      impl_ = std::make_unique<Harness<Vrheo_core_tool_l1>>(o);
+    else if (o.lanes == 2)
+      impl_ = std::make_unique<Harness<Vrheo_core_tool_l2>>(o);
+    else
+      throw Error("RTL core with edge element " + std::string(o.element.name) +
+                  ": lanes = " + std::to_string(o.lanes) + ": built for 1 and 2 lanes");
   } else if (o.element == hls::kThreeElementWithVolume && o.lanes == 2) {
     // The volume core also at two lanes: its element schedule across lanes.
     impl_ = std::make_unique<Harness<Vrheo_core_volume_l2>>(o);

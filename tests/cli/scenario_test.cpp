@@ -63,7 +63,8 @@ std::string load_error(const json& j, std::string* file = nullptr) {
 TEST(BuiltinScenarios, AreThePapersModelsAndTheSeedContactScenes) {
   EXPECT_EQ(builtin_scenarios(),
             (std::vector<std::string>{"clay_push", "block5", "block15", "press_sphere", "slide_mu0",
-                                      "slide_mu03", "six_objects", "roller_dough"}));
+                                      "slide_mu03", "six_objects", "roller_dough",
+                                      "indent_sphere"}));
 }
 
 TEST(BuiltinScenarios, EachBuildsAValidModelWithAStableTimeStep) {

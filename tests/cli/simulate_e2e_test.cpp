@@ -360,6 +360,27 @@ TEST_F(SimulateTest, ToolsAndObjectsWriteTheirCsvsAndVtkParts) {
   EXPECT_TRUE(fs::exists(out() + "/vtk/object1_000000.vtu"));
 }
 
+TEST_F(SimulateTest, TheBitTrueCoreRunsAFrictionlessSphereAndSaysWhatItLeavesOut) {
+  // indent_sphere on the core's tool unit: the reaction per step in tools.csv; the torque
+  // the core does not return is named (and needs --allow-dropped).
+  RunResult r = run_rheo("simulate --scenario indent_sphere --duration 0.5 --backend bittrue "
+                         "--quiet --no-plot --out " + out());
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("torque"), std::string::npos) << r.output;
+  r = run_rheo("simulate --scenario indent_sphere --duration 0.5 --backend bittrue "
+               "--allow-dropped --quiet --no-plot --out " + out());
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::vector<std::string> tools = read_lines(out() + "/tools.csv");
+  ASSERT_GT(tools.size(), 50u);
+  std::stringstream last(tools.back());
+  std::string t, fx, fy, fz;
+  std::getline(last, t, ',');
+  std::getline(last, fx, ',');
+  std::getline(last, fy, ',');
+  std::getline(last, fz, ',');
+  EXPECT_GT(std::stod(fz), 0.3) << tools.back();  // 4 mm into the dough by 0.5 s
+}
+
 TEST_F(SimulateTest, CoresRefuseToolsAndContactEvenWithAllowDropped) {
   for (const char* scene : {"press_sphere", "six_objects"}) {
     const RunResult r = run_rheo(std::string("simulate --scenario ") + scene +

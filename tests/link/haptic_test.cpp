@@ -2,6 +2,7 @@
 // the server over a socket, including clients that leave in the middle of a step.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -46,8 +47,29 @@ TEST(HapticSession, ReactionsAreTheReferenceSimulatorsStepByStep) {
   EXPECT_GT(sim.tool_reactions()[0].force.z(), 0.1);  // the sphere is in the dough
 }
 
-TEST(HapticSession, RefusedWithoutToolsOrOnACore) {
+TEST(HapticSession, OnTheBitTrueCoreTheReactionFollowsTheReference) {
+  // indent_sphere's frictionless sphere on the core's tool unit: the same poses give the
+  // reference's reaction force to the fixed-point resolution.
+  const Scenario s = load_scenario("indent_sphere");
+  HapticSession core(s, "bittrue");
+  HapticSession ref(s);
+  EXPECT_EQ(core.backend_name(), "bit-true model");
+  double peak = 0.0, worst = 0.0;
+  for (int i = 1; i <= 800; ++i) {
+    ToolPose p;
+    p.position = Vec3(0.03, 0.03, 0.043 - 1e-5 * i);
+    const Vec3 f_core = core.step({&p, 1})[0].force;
+    const Vec3 f_ref = ref.step({&p, 1})[0].force;
+    peak = std::max(peak, f_ref.norm());
+    worst = std::max(worst, (f_core - f_ref).norm());
+  }
+  EXPECT_GT(peak, 1.0);  // 8 mm into the dough
+  EXPECT_LT(worst, 2e-3 * peak) << "peak " << peak;
+}
+
+TEST(HapticSession, RefusedWithoutToolsOrOnACoreWithoutTheirContact) {
   EXPECT_THROW(HapticSession(load_scenario("block5")), Error);
+  // press_sphere's sphere has friction, which the cores' tool unit does not compute
   EXPECT_THROW(HapticSession(load_scenario("press_sphere"), "bittrue"), Error);
   HapticSession session(load_scenario("press_sphere"));
   const std::vector<ToolPose> none;
