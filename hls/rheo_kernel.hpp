@@ -555,6 +555,46 @@ inline DampedCoefs hardened_coefs(std::int64_t ds, std::int64_t l, std::int64_t 
 
 // ---- the TEM ---------------------------------------------------------------------------
 
+// A vector's length and direction as the TEM computes them (and the tool unit, for the
+// sphere's and cylinder's r'): r block-normalised, l2n = r^.r^ exact, y = rsqrt(l2n),
+//   l = |r| = 2^shift sqrt(l2n) = 2^shift m 2^parity y 2^k (m y has 2B-3 fractional bits),
+//   u = r^ / sqrt(l2n) = r^ y 2^-k in Q1.(B-2) (y has B-1 fractional bits).
+struct LengthDirection {
+  std::int64_t l = 0;     // X format (the format of r)
+  std::int64_t u[3] = {};  // Q1.(B-2) operands; 0 when degenerate
+  bool degenerate = false;  // r = 0
+};
+
+template <class Fmt>
+inline LengthDirection length_direction(const std::int64_t (&r)[3], std::uint32_t* status,
+                                        std::uint32_t flag) {
+  constexpr int W = Fmt::kWidth;
+  constexpr int B = Fmt::kOperandBits;
+  constexpr Rounding R = Fmt::kRounding;
+  const Operands<3> rn = normalize<B, R>(r);
+  const i128 l2n = i128(rn.mant[0]) * rn.mant[0] + i128(rn.mant[1]) * rn.mant[1] +
+                   i128(rn.mant[2]) * rn.mant[2];
+  const RsqrtResult rs = rsqrt_l2<B, R>(l2n);
+  LengthDirection out;
+  out.degenerate = rs.degenerate;
+  out.l = saturate(
+      shift_round<R>(i128(rs.mant) * rs.y, 2 * B - 3 - rn.shift - rs.parity - rs.k), W, status,
+      flag);
+  for (int i = 0; i < 3; ++i)
+    out.u[i] = saturate(shift_round<R>(i128(rn.mant[i]) * rs.y, rs.k + 1), B, status, flag);
+  return out;
+}
+
+// u . v for a unit operand vector u (Q1.(B-2)) and a block-normalised vector v, as a word in
+// v's format (the TEM's ldot, the tool unit's along and ldot).
+template <class Fmt>
+inline std::int64_t along_unit(const std::int64_t* u, const Operands<3>& vn,
+                               std::uint32_t* status, std::uint32_t flag) {
+  const i128 acc = i128(u[0]) * vn.mant[0] + i128(u[1]) * vn.mant[1] + i128(u[2]) * vn.mant[2];
+  return saturate(shift_round<Fmt::kRounding>(acc, Fmt::kFracU - vn.shift), Fmt::kWidth, status,
+                  flag);
+}
+
 // Every product has Fmt::kOperandBits-bit operands (B): r and dp are block-normalised
 // vectors, ldot, d - L, l, T and m normalised words, u a Q1.(B-2) operand.
 template <class Fmt, int Arms = 0, bool Damper = false, bool Hardening = false>
@@ -579,24 +619,12 @@ inline TemOut tem_edge(const TemIn& in, const MaterialCoefs& m, std::uint32_t* s
     dp[i] = saturate(i128(in.pe[i]) - in.ps[i], W, status, kFlag);
   }
   const std::int64_t ds = saturate(i128(in.d) - in.L, W, status, kFlag);
-  const Operands<3> rn = normalize<B, R>(r);
   const Operands<3> dpn = normalize<B, R>(dp);
-  const i128 l2n = i128(rn.mant[0]) * rn.mant[0] + i128(rn.mant[1]) * rn.mant[1] +
-                   i128(rn.mant[2]) * rn.mant[2];
-  const RsqrtResult rs = rsqrt_l2<B, R>(l2n);
-  if (rs.degenerate) *status |= kStatusDegenerateEdge;
-  // |r| = 2^shift sqrt(l2n) = 2^shift m 2^parity y 2^k; m y has 2B-3 fractional bits.
-  const std::int64_t l = saturate(
-      shift_round<R>(i128(rs.mant) * rs.y, 2 * B - 3 - rn.shift - rs.parity - rs.k), W, status,
-      kFlag);
-  // u = r^ / sqrt(l2n) = r^ y 2^-k in Q1.(B-2): y has B-1 fractional bits.
-  std::int64_t u[3];
-  for (int i = 0; i < 3; ++i)
-    u[i] = saturate(shift_round<R>(i128(rn.mant[i]) * rs.y, rs.k + 1), B, status, kFlag);
-  const i128 ldot_acc = i128(u[0]) * dpn.mant[0] + i128(u[1]) * dpn.mant[1] +
-                        i128(u[2]) * dpn.mant[2];
-  const std::int64_t ldot =
-      saturate(shift_round<R>(ldot_acc, Fmt::kFracU - dpn.shift), W, status, kFlag);
+  const LengthDirection ld = length_direction<Fmt>(r, status, kFlag);
+  if (ld.degenerate) *status |= kStatusDegenerateEdge;
+  const std::int64_t l = ld.l;
+  const std::int64_t* u = ld.u;
+  const std::int64_t ldot = along_unit<Fmt>(u, dpn, status, kFlag);
   // This edge's coefficients: the material's, or with the force-dependent damper the
   // material's scaled by the damper's state (which depends on ds alone, so the RTL
   // computes it beside the length).

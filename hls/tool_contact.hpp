@@ -48,11 +48,7 @@ ToolOut tool_particle(const std::int64_t x[3], const std::int64_t p[3], const To
   }
   const Operands<3> rn = normalize<B, R>(r);
   const Operands<3> dpn = normalize<B, R>(dp);
-  // along = a . r: a has kFracU fractional bits, r = mant 2^shift
-  const i128 along_acc =
-      i128(t.a[0]) * rn.mant[0] + i128(t.a[1]) * rn.mant[1] + i128(t.a[2]) * rn.mant[2];
-  const std::int64_t along =
-      saturate(shift_round<R>(along_acc, Fmt::kFracU - rn.shift), W, &st, kFlag);
+  const std::int64_t along = along_unit<Fmt>(t.a, rn, &st, kFlag);
   // the radial part r' (a cylinder's; a sphere's is r)
   std::int64_t rp[3];
   const Operands<1> an = normalize<B, R>(along);
@@ -62,25 +58,11 @@ ToolOut tool_particle(const std::int64_t x[3], const std::int64_t p[3], const To
     rp[i] = t.kind == kToolCylinder ? saturate(i128(r[i]) - proj, W, &st, kFlag) : r[i];
   }
   // |r'| and r' / |r'| as the TEM computes l and u
-  const Operands<3> rpn = normalize<B, R>(rp);
-  const i128 l2n = i128(rpn.mant[0]) * rpn.mant[0] + i128(rpn.mant[1]) * rpn.mant[1] +
-                   i128(rpn.mant[2]) * rpn.mant[2];
-  const RsqrtResult rs = rsqrt_l2<B, R>(l2n);
-  std::int64_t l =
-      saturate(shift_round<R>(i128(rs.mant) * rs.y, 2 * B - 3 - rpn.shift - rs.parity - rs.k), W,
-               &st, kFlag);
-  std::int64_t u[3];
-  for (int i = 0; i < 3; ++i)
-    u[i] = saturate(shift_round<R>(i128(rpn.mant[i]) * rs.y, rs.k + 1), B, &st, kFlag);
+  const LengthDirection ld = length_direction<Fmt>(rp, &st, kFlag);
   const bool plane = t.kind == kToolPlane;
-  if (plane) {
-    l = along;
-    for (int i = 0; i < 3; ++i) u[i] = t.a[i];
-  }
-  const i128 ldot_acc =
-      i128(u[0]) * dpn.mant[0] + i128(u[1]) * dpn.mant[1] + i128(u[2]) * dpn.mant[2];
-  const std::int64_t ldot =
-      saturate(shift_round<R>(ldot_acc, Fmt::kFracU - dpn.shift), W, &st, kFlag);
+  const std::int64_t l = plane ? along : ld.l;
+  const std::int64_t* u = plane ? t.a : ld.u;
+  const std::int64_t ldot = along_unit<Fmt>(u, dpn, &st, kFlag);
   const std::int64_t ds = saturate(i128(l) - t.reach, W, &st, kFlag);
   const std::int64_t t_spring = mul_coef_operand<Fmt>(ds, t.kt, S::kKt, &st, kFlag);
   const std::int64_t t_damper = mul_coef_operand<Fmt>(ldot, t.ct, S::kCt, &st, kFlag);
@@ -88,7 +70,7 @@ ToolOut tool_particle(const std::int64_t x[3], const std::int64_t p[3], const To
   const std::int64_t fn = saturate(-i128(tension), W, &st, kFlag);
   const bool along_ok = t.kind != kToolCylinder ||
                         (along <= t.half_length && along >= -t.half_length);
-  const bool in_reach = t.kind != kToolOff && ds < 0 && along_ok && (plane || !rs.degenerate);
+  const bool in_reach = t.kind != kToolOff && ds < 0 && along_ok && (plane || !ld.degenerate);
   ToolOut out;
   if (!in_reach) return out;
   *status |= st;

@@ -280,6 +280,16 @@ module rheo_core_ctrl #(
   assign div_take = div_trial >= TrialW'(Lanes);
   assign div_rem_next = BW'(div_take ? div_trial - TrialW'(Lanes) : div_trial);
 
+  // Minus the sums of the tool's forces (the reaction), one wide word per axis, registered:
+  // the sums are complete about eight clocks before the MPM drain ends (the tool unit's last
+  // force precedes the MPM's last particle by the MPM's latency), so the negation's carry
+  // chain and the narrowing's compare sit in different clocks.
+  logic [3*WideW-1:0] tool_neg;
+  always_ff @(posedge clk_i) begin
+    for (int i = 0; i < 3; i++)
+      tool_neg[i*WideW +: WideW] <= WideW'(0) - WideW'(signed'(tool_acc_i[i*PlateAccW +: PlateAccW]));
+  end
+
   // ---------------------------------------------------------------- next state
   always_comb begin
     state_d = state_q;
@@ -511,9 +521,8 @@ module rheo_core_ctrl #(
           if (ToolContact != 0) begin
             // the reaction: minus the sum of the tool's forces on the particles
             for (int i = 0; i < 3; i++) begin
-              reaction_d[i*W +: W] = rheo_consts_pkg::sat_word(
-                  -WideW'(signed'(tool_acc_i[i*PlateAccW +: PlateAccW])));
-              if (rheo_consts_pkg::clips(-WideW'(signed'(tool_acc_i[i*PlateAccW +: PlateAccW])), W))
+              reaction_d[i*W +: W] = rheo_consts_pkg::sat_word(tool_neg[i*WideW +: WideW]);
+              if (rheo_consts_pkg::clips(tool_neg[i*WideW +: WideW], W))
                 status_d = status_d | lane_flags_i | 32'(rheo_consts_pkg::StatusToolSat);
             end
           end

@@ -312,7 +312,7 @@ module rheo_tool #(
   logic clip48_q, clip49_q;
   always_comb begin
     t_w = (W+1)'(tk47) + (W+1)'(tc47);
-    fn_w = -(W+1)'(t48_q);
+    fn_w = (W+1)'(0) - (W+1)'(t48_q);
   end
   always_ff @(posedge clk_i) begin
     t48_q <= sat(t_w);
