@@ -43,7 +43,7 @@ struct EdgeElement {
   // that carries it, so it is named with the edge element.
   bool volume_preservation = false;
   // The tool unit: per lane, each particle's contact with one rigid tool (plane, sphere or
-  // cylinder; penalty force without friction) in the MPM pass (hls/tool_contact.hpp). A
+  // cylinder; penalty force with Coulomb friction) in the MPM pass (hls/tool_contact.hpp). A
   // part of the core, like the volume unit. Its MPM pass runs kToolLatency clocks longer.
   bool tool_contact = false;
 

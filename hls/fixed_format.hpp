@@ -189,7 +189,7 @@ inline constexpr int kDefaultLanes = 1;
 inline constexpr int kTemLatency = 40;
 inline constexpr int kMpmLatency = 8;
 // rtl/rheo_tool.sv (hls/tool_contact.hpp): one particle's contact with a rigid tool.
-inline constexpr int kToolLatency = 57;
+inline constexpr int kToolLatency = 84;
 inline constexpr int kTemDrainCycles = kTemLatency + 4;
 // A TEM with strain hardening computes its coefficients from l, which it has at stage 21
 // (rtl/rheo_harden.sv, 44 stages from stage 17): everything from the coefficient products
@@ -240,6 +240,10 @@ struct CoefShifts {
   static constexpr int kK2t = Fmt::kFracX - Fmt::kFracF;
   // Volume element: f = c * (V6 - V6_0) (V format) * g6 (two X-format factors) -> F.
   static constexpr int kVolume = Fmt::kFracV + 2 * Fmt::kFracX - Fmt::kFracF;
+  // Tool friction: mu * F_n (F -> F); a cylinder's surface displacement over the step
+  // spin * (a x u), u and a Q1.(B-2) operands and spin in P-format LSBs (-> P).
+  static constexpr int kMu = 0;
+  static constexpr int kSpin = Fmt::kFracU;
 };
 
 }  // namespace rheo::hls

@@ -122,8 +122,9 @@ enum GlobalRegister : std::uint32_t {
 // The tool unit's registers (region kRegionTool, hls::ToolRegs): the tool's kind
 // (hls::ToolKind, bits [1:0]), its position now (X format), its displacement over the step
 // (P format), its unit normal or axis (Q1.16 operands, sign-extended from bit 17), the reach
-// (X format: eps, or radius + eps), half the cylinder's length (X format), and the penalty
-// coefficients kt and ct (packed).
+// (X format: eps, or radius + eps), half the cylinder's length (X format), the penalty
+// coefficients kt and ct, the friction coefficient mu and a cylinder's surface displacement
+// over the step dq R in P-format LSBs (spin) (coefficients packed).
 enum ToolRegister : std::uint32_t {
   kToolKind = 0,
   kToolCx = 1, kToolCy = 2, kToolCz = 3,
@@ -133,7 +134,9 @@ enum ToolRegister : std::uint32_t {
   kToolHalfLength = 11,
   kToolKt = 12,
   kToolCt = 13,
-  kNumToolRegisters = 14,
+  kToolMu = 14,
+  kToolSpin = 15,
+  kNumToolRegisters = 16,
 };
 inline constexpr std::uint32_t kToolReactionWords = 3;
 

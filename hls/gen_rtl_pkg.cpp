@@ -50,6 +50,8 @@ int main() {
   param("ShiftCt", Shifts::kCt, "extra shift of ct*ldot: P -> F");
   param("ShiftClamp", Shifts::kClamp, "extra shift of a*l: X -> X");
   param("ShiftMinv", Shifts::kMinv, "extra shift of minv*F: F -> P");
+  param("ShiftMu", Shifts::kMu, "extra shift of mu*F_n (tool friction): F -> F");
+  param("ShiftSpin", Shifts::kSpin, "extra shift of spin*(a x u) (tool friction): -> P");
   param("ShiftGamma", Shifts::kGamma, "extra shift of gamma*m: X -> P");
   param("ShiftK2t", Shifts::kK2t, "extra shift of k2t*m: X -> F");
   param("TemLatency", h::kTemLatency, "rheo_tem: clocks from valid_i to valid_o");
@@ -123,6 +125,8 @@ int main() {
   param("ToolHalfLength", f::kToolHalfLength, "tool register: half the cylinder's length (X)");
   param("ToolKt", f::kToolKt, "tool register: kt (packed)");
   param("ToolCt", f::kToolCt, "tool register: ct (packed)");
+  param("ToolMu", f::kToolMu, "tool register: mu (packed)");
+  param("ToolSpin", f::kToolSpin, "tool register: spin, dq R in P LSBs (packed)");
   param("GlobalNumParticles", f::kGlobalNumParticles, "global register");
   param("GlobalEdgeRows", f::kGlobalEdgeRows, "global register");
   param("GlobalGravityX", f::kGlobalGravityX, "global register");

@@ -835,6 +835,9 @@ struct ToolRegs {
   std::int64_t half_length = 0;    // X format: half the cylinder's length
   Coef kt;                         // k Lu / Fu (CoefShifts::kKt)
   Coef ct;                         // c Lu / (dt Fu) (CoefShifts::kCt)
+  Coef mu;                         // Coulomb friction coefficient (CoefShifts::kMu)
+  Coef spin;                       // a cylinder's surface displacement over the step, dq R,
+                                   // in P-format LSBs (CoefShifts::kSpin; 0 otherwise)
 };
 
 struct ToolOut {
@@ -844,8 +847,8 @@ struct ToolOut {
 
 // One particle's contact with the tool (defined in hls/tool_contact.hpp).
 template <class Fmt>
-ToolOut tool_particle(const std::int64_t x[3], const std::int64_t p[3], const ToolRegs& t,
-                      std::uint32_t* status);
+ToolOut tool_particle(const std::int64_t x[3], const std::int64_t p[3], const Coef& minv,
+                      const ToolRegs& t, std::uint32_t* status);
 
 // ---- MPM ------------------------------------------------------------------------------
 
@@ -1083,7 +1086,7 @@ mpm_pass:
     if constexpr (Tool) {
       const MpmParticle& q = mem.particles[i];
       if (!(q.flags & kCoreFixed)) {
-        const ToolOut t = tool_particle<Fmt>(q.x, q.p, mem.tool, &mem.status);
+        const ToolOut t = tool_particle<Fmt>(q.x, q.p, q.minv, mem.tool, &mem.status);
         for (int a = 0; a < 3; ++a) {
           f[a] = saturate(i128(f[a]) + t.f[a], W, &mem.status, kStatusMpmSaturated);
           tool_acc[a] += t.f[a];

@@ -23,11 +23,13 @@ package rheo_consts_pkg;
   localparam int ShiftCt = 11;  // extra shift of ct*ldot: P -> F
   localparam int ShiftClamp = 0;  // extra shift of a*l: X -> X
   localparam int ShiftMinv = -11;  // extra shift of minv*F: F -> P
+  localparam int ShiftMu = 0;  // extra shift of mu*F_n (tool friction): F -> F
+  localparam int ShiftSpin = 16;  // extra shift of spin*(a x u) (tool friction): -> P
   localparam int ShiftGamma = -4;  // extra shift of gamma*m: X -> P
   localparam int ShiftK2t = 7;  // extra shift of k2t*m: X -> F
   localparam int TemLatency = 40;  // rheo_tem: clocks from valid_i to valid_o
   localparam int MpmLatency = 8;  // rheo_mpm: clocks from valid_i to valid_o
-  localparam int ToolLatency = 57;  // rheo_tool: clocks from valid_i to valid_o
+  localparam int ToolLatency = 84;  // rheo_tool: clocks from valid_i to valid_o
   localparam int ToolOff = 0;  // tool kind: no tool
   localparam int ToolPlane = 1;  // tool kind
   localparam int ToolSphere = 2;  // tool kind
@@ -84,7 +86,7 @@ package rheo_consts_pkg;
   localparam int NumRegions = 32;  // regions
   localparam int RegionTool = 30;  // region: the tool unit's registers
   localparam int RegionToolReaction = 31;  // region: the tool's reaction force
-  localparam int ToolRegisters = 14;  // tool unit: registers (region entries)
+  localparam int ToolRegisters = 16;  // tool unit: registers (region entries)
   localparam int ToolReactionWords = 3;  // tool unit: reaction words
   localparam int ToolKind = 0;  // tool register: kind (bits 1:0)
   localparam int ToolCx = 1;  // tool register: position x, y, z follow (X format)
@@ -95,6 +97,8 @@ package rheo_consts_pkg;
   localparam int ToolHalfLength = 11;  // tool register: half the cylinder's length (X)
   localparam int ToolKt = 12;  // tool register: kt (packed)
   localparam int ToolCt = 13;  // tool register: ct (packed)
+  localparam int ToolMu = 14;  // tool register: mu (packed)
+  localparam int ToolSpin = 15;  // tool register: spin, dq R in P LSBs (packed)
   localparam int GlobalNumParticles = 0;  // global register
   localparam int GlobalEdgeRows = 1;  // global register
   localparam int GlobalGravityX = 2;  // global register

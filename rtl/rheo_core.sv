@@ -69,8 +69,8 @@
 // half that does not follow a first half in the lane's previous row, or an element slot on
 // a core without the unit, is a schedule conflict.
 // ToolContact = 1 builds the variant with a tool unit per lane (rheo_tool): each particle
-// the MPM pass reads meets one rigid tool (plane, sphere or cylinder, penalty force without
-// friction) whose registers the host writes before a step (region RegionTool). The unit
+// the MPM pass reads meets one rigid tool (plane, sphere or cylinder, penalty force with
+// Coulomb friction) whose registers the host writes before a step (region RegionTool). The unit
 // takes the particle's x and p at MPM stage 3, its other MPM inputs wait for it in a delay
 // line, and its force (none for fixed particles) joins the force sum, saturated once more,
 // in one more stage: the MPM pass runs ToolLatency + 1 clocks longer, and so does its drain
@@ -166,7 +166,7 @@ module rheo_core #(
   logic [3*W-1:0] tool_c, tool_dc;
   logic [3*B-1:0] tool_a;
   logic [W-1:0] tool_reach, tool_half_len;
-  logic [CoefW-1:0] tool_kt, tool_ct;
+  logic [CoefW-1:0] tool_kt, tool_ct, tool_mu, tool_spin;
   logic [3*PlateAccW-1:0] tool_acc;
 
   rheo_core_ctrl #(
@@ -190,7 +190,7 @@ module rheo_core #(
     .read_word_i(read_word), .lane_flags_i(lane_flags), .plate_acc_i(plate_acc),
     .tool_kind_o(tool_kind), .tool_c_o(tool_c), .tool_dc_o(tool_dc), .tool_a_o(tool_a),
     .tool_reach_o(tool_reach), .tool_half_len_o(tool_half_len), .tool_kt_o(tool_kt),
-    .tool_ct_o(tool_ct), .tool_acc_i(tool_acc));
+    .tool_ct_o(tool_ct), .tool_mu_o(tool_mu), .tool_spin_o(tool_spin), .tool_acc_i(tool_acc));
 
   // ---------------------------------------------------------------- lane signals
   // Edge pass, stage 1 (slot record read) and stage 2 (particles read, TEM input).
@@ -418,9 +418,10 @@ module rheo_core #(
       logic [3*W-1:0] tool_f;
       rheo_tool #(.W(W), .CoefW(CoefW), .IdxW(PAW)) u_tool (
         .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(mreq3_q[j]), .idx_i(midx3_q[j]),
-        .x_i(mx3_q[j]), .p_i(mp3_q[j]),
+        .x_i(mx3_q[j]), .p_i(mp3_q[j]), .minv_i(mminv3_q[j]),
         .kind_i(tool_kind), .c_i(tool_c), .dc_i(tool_dc), .a_i(tool_a), .reach_i(tool_reach),
-        .half_len_i(tool_half_len), .kt_i(tool_kt), .ct_i(tool_ct),
+        .half_len_i(tool_half_len), .kt_i(tool_kt), .ct_i(tool_ct), .mu_i(tool_mu),
+        .spin_i(tool_spin),
         .valid_o(tool_valid), .idx_o(tool_idx), .f_o(tool_f), .contact_o(tool_contact),
         .sat_o(tool_sat));
       // The particle's other MPM inputs wait for the unit (distributed-RAM delay lines).
@@ -565,7 +566,7 @@ module rheo_core #(
     assign tool_acc = '0;
     logic unused_tool;
     assign unused_tool = ^{tool_kind, tool_c, tool_dc, tool_a, tool_reach, tool_half_len, tool_kt,
-                           tool_ct, tool_push, tool_push_f};
+                           tool_ct, tool_mu, tool_spin, tool_push, tool_push_f};
   end
 
   // Status flags the lanes raise this clock (the controller makes them sticky).

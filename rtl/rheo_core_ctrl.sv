@@ -81,6 +81,8 @@ module rheo_core_ctrl #(
   output logic [W-1:0]         tool_half_len_o,
   output logic [CoefW-1:0]     tool_kt_o,
   output logic [CoefW-1:0]     tool_ct_o,
+  output logic [CoefW-1:0]     tool_mu_o,
+  output logic [CoefW-1:0]     tool_spin_o,
   input  logic [3*PlateAccW-1:0] tool_acc_i
 );
   localparam int WideW = rheo_consts_pkg::WideW;
@@ -147,7 +149,8 @@ module rheo_core_ctrl #(
     if (r == rheo_consts_pkg::ToolKind) tool_reg_word = W'(tool_word_q[r*W +: 2]);
     else if (r >= rheo_consts_pkg::ToolAx && r <= rheo_consts_pkg::ToolAz)
       tool_reg_word = W'($signed(tool_word_q[r*W +: B]));
-    else if (r == rheo_consts_pkg::ToolKt || r == rheo_consts_pkg::ToolCt)
+    else if (r == rheo_consts_pkg::ToolKt || r == rheo_consts_pkg::ToolCt ||
+             r == rheo_consts_pkg::ToolMu || r == rheo_consts_pkg::ToolSpin)
       tool_reg_word = W'(tool_word_q[r*W +: CoefW]);
     else tool_reg_word = tool_word_q[r*W +: W];
   endfunction
@@ -215,6 +218,8 @@ module rheo_core_ctrl #(
   assign tool_half_len_o = tool_word_q[rheo_consts_pkg::ToolHalfLength*W +: W];
   assign tool_kt_o = tool_word_q[rheo_consts_pkg::ToolKt*W +: CoefW];
   assign tool_ct_o = tool_word_q[rheo_consts_pkg::ToolCt*W +: CoefW];
+  assign tool_mu_o = tool_word_q[rheo_consts_pkg::ToolMu*W +: CoefW];
+  assign tool_spin_o = tool_word_q[rheo_consts_pkg::ToolSpin*W +: CoefW];
   // The word a READ of the tool's regions returns (as the core holds the registers: the
   // kind's two bits, the operands sign-extended, the coefficients' packed bits).
   logic [W-1:0] tool_read_word;

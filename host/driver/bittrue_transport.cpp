@@ -38,6 +38,8 @@ void write_tool_register(hls::ToolRegs& t, std::uint32_t index, std::uint32_t w)
     case frame::kToolHalfLength: t.half_length = sword(w); break;
     case frame::kToolKt: t.kt = unpack_coef(w); break;
     case frame::kToolCt: t.ct = unpack_coef(w); break;
+    case frame::kToolMu: t.mu = unpack_coef(w); break;
+    case frame::kToolSpin: t.spin = unpack_coef(w); break;
     default: break;
   }
 }
@@ -56,6 +58,8 @@ std::uint32_t read_tool_register(const hls::ToolRegs& t, std::uint32_t index) {
     case frame::kToolHalfLength: return word(t.half_length);
     case frame::kToolKt: return hls::pack_coef(t.kt);
     case frame::kToolCt: return hls::pack_coef(t.ct);
+    case frame::kToolMu: return hls::pack_coef(t.mu);
+    case frame::kToolSpin: return hls::pack_coef(t.spin);
     default: return 0;
   }
 }

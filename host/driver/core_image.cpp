@@ -408,7 +408,7 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped,
     throw Error("the model has contact among objects, which the cores do not compute "
                 "(docs/hardware.md, \"Contact and tools\"); run it on --backend ref");
   }
-  // Tools: the core's tool unit computes one plane, sphere or cylinder without friction;
+  // Tools: the core's tool unit computes one plane, sphere or cylinder with friction;
   // anything else would change the scene, so it is refused as well.
   if (!model.tools.empty()) {
     const std::string why = " (docs/hardware.md, \"Contact and tools\"); run it on --backend ref";

@@ -104,6 +104,8 @@ void Device::write_tool(const hls::ToolRegs& t) {
   r[frame::kToolHalfLength] = word(t.half_length);
   r[frame::kToolKt] = hls::pack_coef(t.kt);
   r[frame::kToolCt] = hls::pack_coef(t.ct);
+  r[frame::kToolMu] = hls::pack_coef(t.mu);
+  r[frame::kToolSpin] = hls::pack_coef(t.spin);
   transport_->send(w);
 }
 

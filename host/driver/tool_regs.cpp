@@ -20,7 +20,6 @@ std::int64_t word(double scaled, int width, const std::string& what) {
 
 std::string tool_hardware_gap(const Tool& tool) {
   if (tool.shape == ToolShape::kGripper) return "a gripper (the tool unit has plane, sphere and cylinder)";
-  if (tool.contact.mu > 0.0) return "friction (mu > 0; the tool unit pushes along the normal only)";
   return "";
 }
 
@@ -55,6 +54,12 @@ hls::ToolRegs encode_tool(const Tool& tool, int index, const ToolPose& before,
   }
   t.kt = encode_coef(tool.contact.k * Lu / Fu, where + " contact k", S::kKt);
   t.ct = encode_coef(tool.contact.c * Lu / (Fu * dt), where + " contact c / dt", S::kCt);
+  t.mu = encode_coef(tool.contact.mu, where + " contact mu", S::kMu);
+  if (tool.shape == ToolShape::kCylinder) {
+    // The roller's surface moves by dq R along a x n over the step (sim/tool.cpp's v_surface).
+    t.spin = encode_coef(std::ldexp((now.q - before.q) * tool.radius / Lu, image.format.frac_p),
+                         where + " surface displacement per step (turn x radius)", S::kSpin);
+  }
   return t;
 }
 

@@ -1,8 +1,9 @@
 // The RTL tool unit (rtl/rheo_tool.sv, verilated alone) against the bit-true tool_particle
 // (hls/tool_contact.hpp) on random particles fed one per clock, for planes, spheres and
-// cylinders in random poses: every force word, the contact and saturation flags, the index
-// and the valid timing must be equal. The tool's registers change between passes, as the
-// core changes them between steps.
+// cylinders in random poses, with and without friction (turning cylinders, particles of
+// random inverse mass, some without a cap): every force word, the contact and saturation
+// flags, the index and the valid timing must be equal. The tool's registers change between
+// passes, as the core changes them between steps.
 #include <gtest/gtest.h>
 
 #pragma GCC diagnostic push
@@ -39,6 +40,7 @@ struct Expected {
 struct Coverage {
   int checked = 0, contact = 0, saturated = 0;
   int in_reach_pulling = 0;  // in reach but the damper pulls: no force
+  int sliding = 0, stopped = 0;  // in contact with mu > 0: F_t = mu F_n, or the cap
   int contact_by_kind[4] = {};
 };
 
@@ -90,9 +92,11 @@ class RtlToolTest : public ::testing::Test {
     tool_->half_len_i = std::uint32_t(t.half_length);
     tool_->kt_i = rtl_test::pack_coef(t.kt);
     tool_->ct_i = rtl_test::pack_coef(t.ct);
+    tool_->mu_i = rtl_test::pack_coef(t.mu);
+    tool_->spin_i = rtl_test::pack_coef(t.spin);
   }
 
-  void issue(const std::int64_t* x, const std::int64_t* p, const ToolRegs& t) {
+  void issue(const std::int64_t* x, const std::int64_t* p, const Coef& minv, const ToolRegs& t) {
     tool_->valid_i = x != nullptr;
     if (x == nullptr) return;
     const int idx = cycle_ & kIdxMask;
@@ -101,14 +105,23 @@ class RtlToolTest : public ::testing::Test {
       tool_->p_i[a] = std::uint32_t(p[a]);
     }
     tool_->idx_i = idx;
+    tool_->minv_i = rtl_test::pack_coef(minv);
     Expected e{idx, cycle_, {}, 0};
-    e.out = tool_particle<Fmt>(x, p, t, &e.status);
+    e.out = tool_particle<Fmt>(x, p, minv, t, &e.status);
+    if (e.out.contact && t.mu.mant != 0) {
+      // sliding if the force equals the one with a huge mass (no cap), else stopped
+      std::uint32_t st = 0;
+      const ToolOut free = tool_particle<Fmt>(x, p, Coef{0, 0}, t, &st);
+      bool same = true;
+      for (int a = 0; a < 3; ++a) same = same && free.f[a] == e.out.f[a];
+      ++(same ? cov_.sliding : cov_.stopped);
+    }
     if (!e.out.contact && e.status == 0) {
       // in reach with F_n <= 0 (the damper pulls): counted for coverage
       std::uint32_t st = 0;
       ToolRegs no_damper = t;
       no_damper.ct = Coef{0, 0};
-      cov_.in_reach_pulling += tool_particle<Fmt>(x, p, no_damper, &st).contact;
+      cov_.in_reach_pulling += tool_particle<Fmt>(x, p, minv, no_damper, &st).contact;
     }
     if (e.out.contact) ++cov_.contact_by_kind[t.kind];
     pending_.push_back(e);
@@ -156,10 +169,16 @@ TEST_F(RtlToolTest, MatchesTheBitTrueToolUnitWordForWordOnRandomParticlesAtOnePa
     t.kt = driver::encode_coef(std::exp2(-4 + 14 * unit(rng)), "kt", S::kKt);
     t.ct = unit(rng) < 0.2 ? Coef{0, 0}
                            : driver::encode_coef(std::exp2(-6 + 14 * unit(rng)), "ct", S::kCt);
+    // friction in four passes of five; a turning surface of up to ~0.03 Lu per step
+    t.mu = pass % 5 == 0 ? Coef{0, 0} : driver::encode_coef(1.5 * unit(rng), "mu", S::kMu);
+    t.spin = t.kind != kToolCylinder || unit(rng) < 0.3
+                 ? Coef{0, 0}
+                 : driver::encode_coef(0.01 * gauss(rng) * lsb_p, "spin", S::kSpin);
+    if (extreme) t.spin = driver::encode_coef(any_word(rng) * 2.0, "spin", S::kSpin);
     set_regs(t);
     for (int n = 0; n < kParticlesPerPass; ++n) {
       if (unit(rng) < 0.05) {  // a few bubbles
-        issue(nullptr, nullptr, t);
+        issue(nullptr, nullptr, Coef{}, t);
         clock();
         continue;
       }
@@ -182,21 +201,30 @@ TEST_F(RtlToolTest, MatchesTheBitTrueToolUnitWordForWordOnRandomParticlesAtOnePa
         const double want = (unit(rng) - 0.6) * 4 * eps;
         for (int a = 0; a < 3; ++a) x[a] += std::llround((want - along) * axis[a] / norm * lsb_x);
       }
-      issue(x, p, t);
+      // inverse masses over six decades, up to the format's 64 (the scenes' are near 1),
+      // a few without a cap (minv <= 0: fixed particles' words)
+      const double u_m = unit(rng);
+      const Coef minv = u_m < 0.03   ? Coef{0, 0}
+                        : u_m < 0.05 ? Coef{-5, 3}
+                                     : driver::encode_coef(std::exp2(-14 + 19.5 * unit(rng)), "minv",
+                                                           S::kMinv);
+      issue(x, p, minv, t);
       clock();
     }
     drain();  // the registers hold while particles are in flight (the core's pass)
   }
-  std::printf("checked %d particles: %d in contact (plane %d, sphere %d, cylinder %d), "
-              "%d saturated, %d pulled by the damper\n",
+  std::printf("checked %d particles: %d in contact (plane %d, sphere %d, cylinder %d; "
+              "friction: %d sliding, %d stopped), %d saturated, %d pulled by the damper\n",
               cov_.checked, cov_.contact, cov_.contact_by_kind[kToolPlane],
               cov_.contact_by_kind[kToolSphere], cov_.contact_by_kind[kToolCylinder],
-              cov_.saturated, cov_.in_reach_pulling);
+              cov_.sliding, cov_.stopped, cov_.saturated, cov_.in_reach_pulling);
   EXPECT_GT(cov_.contact_by_kind[kToolPlane], 1000);
   EXPECT_GT(cov_.contact_by_kind[kToolSphere], 1000);
   EXPECT_GT(cov_.contact_by_kind[kToolCylinder], 500);
   EXPECT_GT(cov_.saturated, 10);
   EXPECT_GT(cov_.in_reach_pulling, 100);
+  EXPECT_GT(cov_.sliding, 1000);
+  EXPECT_GT(cov_.stopped, 1000);
 }
 
 }  // namespace
