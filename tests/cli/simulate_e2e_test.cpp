@@ -377,11 +377,37 @@ TEST_F(SimulateTest, TheBitTrueCoreRunsAFrictionlessSphereAndSaysWhatItLeavesOut
   EXPECT_GT(first_tool_fz(tools.back()), 0.3) << tools.back();  // 4 mm into the dough by 0.5 s
 }
 
-TEST_F(SimulateTest, CoresRefuseToolsAndContactEvenWithAllowDropped) {
-  for (const char* scene : {"press_sphere", "six_objects"}) {
-    const RunResult r = run_rheo(std::string("simulate --scenario ") + scene +
+TEST_F(SimulateTest, TheBitTrueCoreRunsASphereWithFriction) {
+  // press_sphere's sphere has mu = 0.2: the core's tool unit computes Coulomb friction, so the
+  // scene runs (the torque it does not return still needs --allow-dropped).
+  const RunResult r = run_rheo("simulate --scenario press_sphere --duration 0.3 --backend bittrue "
+                               "--allow-dropped --quiet --no-plot --out " + out());
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(read_lines(out() + "/tools.csv").size(), 300u);
+}
+
+TEST_F(SimulateTest, CoresRefuseObjectContactAndGrippersEvenWithAllowDropped) {
+  // Contact among objects and a gripper would change the scene, not just leave a column out:
+  // refused, with the reason and the backend that can run it, and nothing written.
+  const RunResult shown = run_rheo("scenarios --show press_sphere");
+  ASSERT_EQ(shown.status, 0) << shown.output;
+  nlohmann::json gripper = nlohmann::json::parse(shown.output);
+  using nlohmann::json;
+  const json contact = gripper["tools"][0]["contact"];
+  gripper["tools"][0] = {
+      {"name", "gripper"}, {"shape", "gripper"}, {"axis", json::array({1, 0, 0})},
+      {"up", json::array({0, 0, 1})}, {"length_m", 0.012}, {"width_m", 0.02},
+      {"thickness_m", 0.003}, {"contact", contact},
+      {"path", {{"t_s", json::array({0})},
+                {"position_m", json::array({json::array({0.03, 0.03, 0.04})})},
+                {"q", json::array({0.03})}}}};
+  const std::pair<std::string, std::string> refused[] = {{"six_objects", "contact among objects"},
+                                                         {write_scenario(gripper), "a gripper"}};
+  for (const auto& [scene, why] : refused) {
+    const RunResult r = run_rheo("simulate --scenario " + scene +
                                  " --backend bittrue --allow-dropped --quiet --out " + out());
     EXPECT_NE(r.status, 0) << scene;
+    EXPECT_NE(r.output.find(why), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("docs/hardware.md"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("--backend ref"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out()));

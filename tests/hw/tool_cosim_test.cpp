@@ -1,7 +1,9 @@
 // Bit-exact cosimulation of the RTL cores with the tool unit (ToolContact = 1) against the
 // bit-true model, through the Backend interface with the tool's pose every step: the
 // built-in indent_sphere scene at one and two lanes (random stream stalls on one of them),
-// and a plate and a turning roller pressed into the same dough. Every particle word and the
+// a plate and a turning roller pressed into the same dough, and with Coulomb friction: a
+// sphere dragged sideways through the dough and the built-in roller_dough (seed 000
+// Fig. 2.24, a turning roller with mu = 0.5). Every particle word and the
 // tool's reaction force every step must be equal; the cycles per step must equal the
 // formula (MPM drain longer by the tool unit); the fixed-point reaction must follow the
 // double reference, and the tool must move the dough by far more than that error (it could
@@ -80,6 +82,27 @@ TEST(ToolCosim, APlateAndATurningRollerAreBitExact) {
     p.q = 2.0 * double(k);
   }
   expect_exact(roller, 1, 600);
+}
+
+TEST(ToolCosim, FrictionADraggedSphereAndTheRollerFormingDoughAreBitExact) {
+  // indent_sphere's sphere with mu = 0.4: down 6 mm in 0.3 s, then dragged 12 mm along x.
+  Scenario drag = load_scenario("indent_sphere");
+  drag.name = "drag_sphere";
+  drag.tools[0].contact.mu = 0.4;
+  ToolPath& path = drag.tool_paths[0];
+  const Vec3 top = path.pose.front().position;
+  path.t = {0.0, 0.3, 0.6};
+  path.pose.assign(3, ToolPose{});
+  path.pose[0].position = top;
+  path.pose[1].position = top - Vec3(0.0, 0.0, 0.006);
+  path.pose[2].position = path.pose[1].position + Vec3(0.012, 0.0, 0.0);
+  expect_exact(drag, 1, 600);
+
+  // roller_dough: down in 1 s, then rolling (and turning) along x; 1,300 steps at two
+  // lanes with random stalls.
+  const Scenario roller = load_scenario("roller_dough");
+  ASSERT_GT(roller.tools[0].contact.mu, 0.0);
+  expect_exact(roller, 2, 1300, 0.2);
 }
 
 }  // namespace

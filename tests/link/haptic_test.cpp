@@ -48,29 +48,34 @@ TEST(HapticSession, ReactionsAreTheReferenceSimulatorsStepByStep) {
 }
 
 TEST(HapticSession, OnTheBitTrueCoreTheReactionFollowsTheReference) {
-  // indent_sphere's frictionless sphere on the core's tool unit: the same poses give the
-  // reference's reaction force to the fixed-point resolution.
-  const Scenario s = load_scenario("indent_sphere");
+  // press_sphere's sphere (friction mu = 0.2) on the core's tool unit: pressed 8 mm in, then
+  // dragged 6 mm along x. The same poses give the reference's reaction force, the friction
+  // along x included, to the fixed-point resolution.
+  const Scenario s = load_scenario("press_sphere");
   HapticSession core(s, "bittrue");
   HapticSession ref(s);
   EXPECT_EQ(core.backend_name(), "bit-true model");
-  double peak = 0.0, worst = 0.0;
-  for (int i = 1; i <= 800; ++i) {
+  double peak = 0.0, worst = 0.0, drag = 0.0;
+  for (int i = 1; i <= 1400; ++i) {
     ToolPose p;
-    p.position = Vec3(0.03, 0.03, 0.043 - 1e-5 * i);
+    p.position = Vec3(0.03 + 1e-5 * std::max(0, i - 800), 0.03, 0.043 - 1e-5 * std::min(i, 800));
     const Vec3 f_core = core.step({&p, 1})[0].force;
     const Vec3 f_ref = ref.step({&p, 1})[0].force;
     peak = std::max(peak, f_ref.norm());
     worst = std::max(worst, (f_core - f_ref).norm());
+    if (i == 1400) drag = f_ref.x();
   }
   EXPECT_GT(peak, 1.0);  // 8 mm into the dough
+  EXPECT_GT(drag, 0.05 * peak);  // the dough holds the sphere back as it moves along +x
   EXPECT_LT(worst, 2e-3 * peak) << "peak " << peak;
 }
 
 TEST(HapticSession, RefusedWithoutToolsOrOnACoreWithoutTheirContact) {
   EXPECT_THROW(HapticSession(load_scenario("block5")), Error);
-  // press_sphere's sphere has friction, which the cores' tool unit does not compute
-  EXPECT_THROW(HapticSession(load_scenario("press_sphere"), "bittrue"), Error);
+  // six_objects has contact among objects (and a ground plane tool): the cores refuse it
+  EXPECT_THROW(HapticSession(load_scenario("six_objects"), "bittrue"), Error);
+  // the sweep core has no tool unit
+  EXPECT_THROW(HapticSession(load_scenario("press_sphere"), "sweep-bittrue"), Error);
   HapticSession session(load_scenario("press_sphere"));
   const std::vector<ToolPose> none;
   EXPECT_THROW(session.step(none), Error);
