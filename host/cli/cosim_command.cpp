@@ -104,6 +104,8 @@ void run(const CosimArgs& args) {
   j["max_force_ref_N"] = r.max_force_ref_N;
   if (!r.tool_force_fixed_N.empty()) {
     j["max_tool_force_err_rel"] = r.max_tool_force_err_rel;
+    j["max_tool_force_err_step"] = r.max_tool_force_err_step;
+    j["median_tool_force_err_rel"] = r.median_tool_force_err_rel;
     j["max_tool_force_ref_N"] = r.max_tool_force_ref_N;
   }
   j["cycles_per_step_measured"] = r.cycles_per_step_measured;
@@ -167,7 +169,9 @@ void run(const CosimArgs& args) {
             << (r.tool_force_fixed_N.empty()
                     ? std::string()
                     : ", tool reaction error " + std::to_string(r.max_tool_force_err_rel) +
-                          " of its peak " + std::to_string(r.max_tool_force_ref_N) + " N")
+                          " of its peak " + std::to_string(r.max_tool_force_ref_N) + " N (at step " +
+                          std::to_string(r.max_tool_force_err_step) + "; median " +
+                          std::to_string(r.median_tool_force_err_rel) + ")")
             << "\n"
             << "  cycles per step: measured " << r.cycles_per_step_measured << ", formula "
             << r.cycles_per_step_formula << "; Verilator " << r.sim_cycles_per_s << " cycles/s\n"

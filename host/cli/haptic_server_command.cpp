@@ -71,7 +71,8 @@ void register_haptic_server(CLI::App& app) {
   cmd->add_option("--scenario", args->scenario, "built-in scenario name or JSON file with /tools")
       ->required();
   cmd->add_option("--backend", args->backend,
-                  "what computes the scene: ref (the cores do not compute tools yet)")
+                  "what computes the scene: ref, or a core with its tool unit\n"
+                  "(bittrue, rtl, remote:PATH: one plane, sphere or cylinder; docs/haptics.md)")
       ->capture_default_str();
   cmd->add_option("--timeout-ms", args->timeout_ms, "Longest wait for a hello or a begun frame")
       ->check(CLI::PositiveNumber);

@@ -196,12 +196,23 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     res.max_force_ref_N = fmax;
     res.max_force_err_rel = fmax > 0.0 ? emax / fmax : emax;
     double tmax = 0.0, temax = 0.0;
+    std::vector<double> terr(res.tool_force_ref_N.size());
     for (std::size_t i = 0; i < res.tool_force_ref_N.size(); ++i) {
       tmax = std::max(tmax, res.tool_force_ref_N[i].norm());
-      temax = std::max(temax, (res.tool_force_fixed_N[i] - res.tool_force_ref_N[i]).norm());
+      terr[i] = (res.tool_force_fixed_N[i] - res.tool_force_ref_N[i]).norm();
+      if (terr[i] > temax) {
+        temax = terr[i];
+        res.max_tool_force_err_step = long(i / std::max<std::size_t>(tools, 1)) + 1;
+      }
     }
+    const double scale = tmax > 0.0 ? tmax : 1.0;
     res.max_tool_force_ref_N = tmax;
-    res.max_tool_force_err_rel = tmax > 0.0 ? temax / tmax : temax;
+    res.max_tool_force_err_rel = temax / scale;
+    if (!terr.empty()) {
+      auto mid = terr.begin() + std::ptrdiff_t(terr.size() / 2);
+      std::nth_element(terr.begin(), mid, terr.end());
+      res.median_tool_force_err_rel = *mid / scale;
+    }
   }
   if (const std::optional<backend::CoreClock> clock_end = dut->clock(); clock_end && clock_start) {
     res.cycles_per_step_measured =

@@ -77,6 +77,11 @@ struct CosimResult {
   std::vector<Vec3> tool_force_fixed_N, tool_force_ref_N;
   double max_tool_force_err_rel = 0.0;
   double max_tool_force_ref_N = 0.0;
+  // Where the largest difference was (step, from 1) and the median one, relative to the
+  // same peak: a contact that one model makes a step before the other gives a large error
+  // in that step only, beside a small typical one.
+  long max_tool_force_err_step = 0;
+  double median_tool_force_err_rel = 0.0;
   // With a waveform: the FST times of each traced batch of steps (compare_every steps),
   // from its RUN command to its last force word.
   std::vector<driver::TracedSteps> traced;

@@ -44,13 +44,17 @@ CosimResult expect_exact(const Scenario& scenario, int lanes, long steps, double
   EXPECT_DOUBLE_EQ(r.cycles_per_step_measured, double(r.cycles_per_step_formula));
   EXPECT_LE(r.max_pos_err_rel, kMaxPositionErrorRel);
   EXPECT_LE(r.max_tool_force_err_rel, kMaxToolForceErrorRel);
+  EXPECT_LE(r.median_tool_force_err_rel, r.max_tool_force_err_rel);
+  EXPECT_GE(r.max_tool_force_err_step, 1);
+  EXPECT_LE(r.max_tool_force_err_step, steps);
   // the tool pushes: a reaction of a good fraction of a newton
   EXPECT_GT(r.max_tool_force_ref_N, 0.3) << scenario.name;
   std::printf("%s, %d lane(s): %ld steps, %ld mismatches, %.0f cycles/step (formula %ld), "
-              "tool reaction peak %.3f N, fixed vs double %.2e of it, positions %.2e\n",
+              "tool reaction peak %.3f N, fixed vs double %.2e of it (median %.2e), "
+              "positions %.2e\n",
               scenario.name.c_str(), lanes, r.steps, r.mismatches, r.cycles_per_step_measured,
               r.cycles_per_step_formula, r.max_tool_force_ref_N, r.max_tool_force_err_rel,
-              r.max_pos_err_rel);
+              r.median_tool_force_err_rel, r.max_pos_err_rel);
   return r;
 }
 
