@@ -232,71 +232,23 @@ module rheo_tem #(
     ds1_q <= sat(ds_w);
   end
 
-  // ---- stages 2-4: r and dp as block-normalised operands ----
-  logic [3*B-1:0] rn4_flat, dpn4_flat;
-  logic signed [B-1:0] rn4 [3];
-  logic [EW-1:0] er4, edp4;
-  rheo_normalize #(.N(3), .InW(W), .B(B), .ShiftW(EW)) u_norm_r (
-    .clk_i(clk_i), .v_i({r1_q[2], r1_q[1], r1_q[0]}), .mant_o(rn4_flat), .shift_o(er4));
+  // ---- stages 2-4: dp as block-normalised operands ----
+  logic [3*B-1:0] dpn4_flat;
+  logic [EW-1:0] edp4;
   rheo_normalize #(.N(3), .InW(W), .B(B), .ShiftW(EW)) u_norm_dp (
     .clk_i(clk_i), .v_i({dp1_q[2], dp1_q[1], dp1_q[0]}), .mant_o(dpn4_flat), .shift_o(edp4));
-  always_comb for (int i = 0; i < 3; i++) rn4[i] = rn4_flat[i*B +: B];
 
-  // ---- stages 5-7: l2n = r^.r^ (exact) ----
-  logic signed [PW-1:0] sq5_q [3];
-  logic [PW-1:0] s01_6_q, sq2_6_q, l2n7_q;
-  always_ff @(posedge clk_i) begin
-    for (int i = 0; i < 3; i++) sq5_q[i] <= rn4[i] * rn4[i];
-    s01_6_q <= sq5_q[0] + sq5_q[1];
-    sq2_6_q <= sq5_q[2];
-    l2n7_q <= s01_6_q + sq2_6_q;
-  end
-
-  // ---- stages 8-18: y = 1/sqrt(l2n) ----
-  logic signed [B-1:0] rs_mant18, rs_y18;
-  logic rs_parity18, rs_deg18;
-  logic [5:0] rs_k18;
-  rheo_rsqrt #(.B(B)) u_rsqrt (
-    .clk_i       (clk_i),
-    .rst_ni      (rst_ni),
-    .l2_i        (l2n7_q),
-    .mant_o      (rs_mant18),
-    .y_o         (rs_y18),
-    .parity_o    (rs_parity18),
-    .k_o         (rs_k18),
-    .degenerate_o(rs_deg18)
-  );
-
-  // r^ and its exponent wait for y
-  logic [3*B-1:0] rn18_flat;
-  logic signed [B-1:0] rn18 [3];
-  logic [EW-1:0] er18;
-  rheo_delay #(.W(3*B), .N(14)) u_rn_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(rn4_flat), .q_o(rn18_flat));
-  rheo_delay #(.W(EW), .N(14)) u_er_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(er4), .q_o(er18));
-  always_comb for (int i = 0; i < 3; i++) rn18[i] = rn18_flat[i*B +: B];
-
-  // ---- stage 19: m y, r^ y; stages 20-21: l = m y 2^(er + parity + k - (2B-3)),
-  //      u = r^ y 2^-(k+1) ----
-  logic signed [PW-1:0] lprod19_q, uprod19_q [3];
-  logic [6:0] ls19_q, us19_q;
-  logic [Last:19] deg_q;
-  always_ff @(posedge clk_i) begin
-    lprod19_q <= rs_mant18 * rs_y18;
-    for (int i = 0; i < 3; i++) uprod19_q[i] <= rn18[i] * rs_y18;
-    // both >= 0: er + parity + k <= 15 + 18 = 2B - 3 (l2n < 2^36 gives k <= 17)
-    ls19_q <= 7'(2 * B - 3) - 7'(er18) - 7'(rs_parity18) - 7'(rs_k18);
-    us19_q <= 7'(rs_k18) + 7'd1;
-    deg_q <= {deg_q[Last-1:19], rs_deg18};
-  end
+  // ---- stages 2-21: l = |r|, u = r / |r| (rheo_length_direction) ----
   logic signed [W-1:0] l21;
+  logic [3*B-1:0] u21_flat;
   logic signed [B-1:0] u21 [3];
-  logic clip_l21, clip_u21 [3];
-  rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_l (
-    .clk_i(clk_i), .v_i(lprod19_q), .sb_i(ls19_q), .out_o(l21), .clip_o(clip_l21));
-  for (genvar i = 0; i < 3; i++) begin : g_u
-    rheo_round_shift #(.InW(PW), .OutW(B), .ShiftW(7), .MaxLeft(0)) u_u (
-      .clk_i(clk_i), .v_i(uprod19_q[i]), .sb_i(us19_q), .out_o(u21[i]), .clip_o(clip_u21[i]));
-  end
+  logic clip_lu21, deg21;
+  rheo_length_direction #(.W(W), .B(B), .EW(EW)) u_len (
+    .clk_i(clk_i), .rst_ni(rst_ni), .v_i({r1_q[2], r1_q[1], r1_q[0]}), .l_o(l21), .u_o(u21_flat),
+    .clip_o(clip_lu21), .degenerate_o(deg21));
+  always_comb for (int i = 0; i < 3; i++) u21[i] = u21_flat[i*B +: B];
+  logic [Last:22] deg_q;
+  always_ff @(posedge clk_i) deg_q <= {deg_q[Last-1:22], deg21};
 
   // ---- stages 22-26: ldot = u . dp^ 2^(edp - FracU) ----
   logic [3*B-1:0] dpn21_flat;
@@ -651,7 +603,7 @@ module rheo_tem #(
     flag_at = '0;
     flag_at[1] = clip1_q;
     flag_at[6] = clip_arm_at6;
-    flag_at[21] = clip_l21 | clip_u21[0] | clip_u21[1] | clip_u21[2];
+    flag_at[21] = clip_lu21;
     flag_at[26] = clip_ldot26;
     flag_at[29] = clip_damper29;
     flag_at[29 + HD] = flag_at[29 + HD] | clip_hard29;

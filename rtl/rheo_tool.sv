@@ -5,11 +5,11 @@
 // particle and the tool's surface) and the friction against its slide along the surface:
 //   r = x - c, dp = p - dc, along = a . r
 //   plane: l = along, u = a;  sphere: r' = r;  cylinder: r' = r - along a
-//   sphere, cylinder: y = rsqrt(r'.r'), l = r'.r' y, u = r' y   (as the TEM)
+//   sphere, cylinder: y = rsqrt(r'.r'), l = r'.r' y, u = r' y   (rheo_length_direction)
 //   ldot = u . dp, ds = l - reach, T = kt ds + ct ldot, F_n = -T
 //   in reach: ds < 0, |along| <= half_length (cylinder), r' != 0 (sphere, cylinder)
 //   dp_t = dp - ldot u - spin (a x u)     (spin: a turning cylinder's surface displacement)
-//   l_t = |dp_t|, t = dp_t / l_t           (rsqrt again)
+//   l_t = |dp_t|, t = dp_t / l_t           (rheo_length_direction again)
 //   F_t = min(mu F_n, l_t / minv)          (1/minv: rheo_recip; no cap for minv <= 0)
 //   f = F_n u - F_t t when in reach and F_n > 0, else 0
 // Every multiplier operand is B = OperandBits (18) bits, so each product is one MULT18X18:
@@ -205,56 +205,15 @@ module rheo_tool #(
     clip16_q <= (kind_i == KCylinder) && (clip(rp_w[0]) | clip(rp_w[1]) | clip(rp_w[2]));
   end
 
-  // ---- stages 17-22: r' normalised, l2n = r'^.r'^ (exact) ----
-  logic [3*B-1:0] rpn19_flat;
-  logic signed [B-1:0] rpn19 [3];
-  logic [EW-1:0] erp19;
-  rheo_normalize #(.N(3), .InW(W), .B(B), .ShiftW(EW)) u_norm_rp (
-    .clk_i(clk_i), .v_i({rp16_q[2], rp16_q[1], rp16_q[0]}), .mant_o(rpn19_flat), .shift_o(erp19));
-  always_comb for (int i = 0; i < 3; i++) rpn19[i] = rpn19_flat[i*B +: B];
-  logic signed [PW-1:0] sq20_q [3];
-  logic [PW-1:0] s01_21_q, sq2_21_q, l2n22_q;
-  always_ff @(posedge clk_i) begin
-    for (int i = 0; i < 3; i++) sq20_q[i] <= rpn19[i] * rpn19[i];
-    s01_21_q <= sq20_q[0] + sq20_q[1];
-    sq2_21_q <= sq20_q[2];
-    l2n22_q <= s01_21_q + sq2_21_q;
-  end
-
-  // ---- stages 23-33: y = 1/sqrt(l2n) ----
-  logic signed [B-1:0] rs_mant33, rs_y33;
-  logic rs_parity33, rs_deg33;
-  logic [5:0] rs_k33;
-  rheo_rsqrt #(.B(B)) u_rsqrt (
-    .clk_i(clk_i), .rst_ni(rst_ni), .l2_i(l2n22_q), .mant_o(rs_mant33), .y_o(rs_y33),
-    .parity_o(rs_parity33), .k_o(rs_k33), .degenerate_o(rs_deg33));
-  logic [3*B-1:0] rpn33_flat;
-  logic [EW-1:0] erp33;
-  rheo_delay #(.W(3*B), .N(14)) u_rpn_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(rpn19_flat), .q_o(rpn33_flat));
-  rheo_delay #(.W(EW), .N(14)) u_erp_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(erp19), .q_o(erp33));
-
-  // ---- stage 34: m y, r'^ y; stages 35-36: l, u ----
-  logic signed [PW-1:0] lprod34_q, uprod34_q [3];
-  logic [6:0] ls34_q, us34_q;
-  logic deg34_q, deg35_q, deg36_q;
-  always_ff @(posedge clk_i) begin
-    lprod34_q <= rs_mant33 * rs_y33;
-    for (int i = 0; i < 3; i++) uprod34_q[i] <= $signed(rpn33_flat[i*B +: B]) * rs_y33;
-    ls34_q <= 7'(2 * B - 3) - 7'(erp33) - 7'(rs_parity33) - 7'(rs_k33);
-    us34_q <= 7'(rs_k33) + 7'd1;
-    deg34_q <= rs_deg33;
-    deg35_q <= deg34_q;
-    deg36_q <= deg35_q;
-  end
+  // ---- stages 17-36: l = |r'|, u = r' / |r'| (rheo_length_direction) ----
   logic signed [W-1:0] l36;
+  logic [3*B-1:0] u36_flat;
   logic signed [B-1:0] u36 [3];
-  logic clip_l36, clip_u36 [3];
-  rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_l (
-    .clk_i(clk_i), .v_i(lprod34_q), .sb_i(ls34_q), .out_o(l36), .clip_o(clip_l36));
-  for (genvar i = 0; i < 3; i++) begin : g_u
-    rheo_round_shift #(.InW(PW), .OutW(B), .ShiftW(7), .MaxLeft(0)) u_u (
-      .clk_i(clk_i), .v_i(uprod34_q[i]), .sb_i(us34_q), .out_o(u36[i]), .clip_o(clip_u36[i]));
-  end
+  logic clip_lu36, deg36;
+  rheo_length_direction #(.W(W), .B(B), .EW(EW)) u_len (
+    .clk_i(clk_i), .rst_ni(rst_ni), .v_i({rp16_q[2], rp16_q[1], rp16_q[0]}), .l_o(l36),
+    .u_o(u36_flat), .clip_o(clip_lu36), .degenerate_o(deg36));
+  always_comb for (int i = 0; i < 3; i++) u36[i] = u36_flat[i*B +: B];
   // the plane's l and u: along and the normal
   logic signed [W-1:0] along36, l_sel36;
   logic signed [B-1:0] u_sel36 [3];
@@ -288,7 +247,7 @@ module rheo_tool #(
     clip_ds37_q <= clip(ds_w);
     ds_neg37_q <= ds_w[W];  // the saturated word has the sum's sign
     along_ok37_q <= along36 <= $signed(half_len_i) && along36 >= -$signed(half_len_i);
-    deg37_q <= deg36_q;
+    deg37_q <= deg36;
     reach38_q <= (kind_i != KOff) && ds_neg37_q && (kind_i != KCylinder || along_ok37_q) &&
                  (kind_i == KPlane || !deg37_q);
   end
@@ -435,54 +394,15 @@ module rheo_tool #(
     clip_dpt48_q <= ~(dpt_fits[0] & dpt_fits[1] & dpt_fits[2]);
   end
 
-  // ---- stages 49-54: dp_t normalised, l2t = dp_t^.dp_t^ (exact) ----
-  logic [3*B-1:0] dptn51_flat;
-  logic signed [B-1:0] dptn51 [3];
-  logic [EW-1:0] edpt51;
-  rheo_normalize #(.N(3), .InW(W), .B(B), .ShiftW(EW)) u_norm_dpt (
-    .clk_i(clk_i), .v_i({dpt48_q[2], dpt48_q[1], dpt48_q[0]}), .mant_o(dptn51_flat),
-    .shift_o(edpt51));
-  always_comb for (int i = 0; i < 3; i++) dptn51[i] = dptn51_flat[i*B +: B];
-  logic signed [PW-1:0] sqt52_q [3];
-  logic [PW-1:0] st01_53_q, sqt2_53_q, l2t54_q;
-  always_ff @(posedge clk_i) begin
-    for (int i = 0; i < 3; i++) sqt52_q[i] <= dptn51[i] * dptn51[i];
-    st01_53_q <= sqt52_q[0] + sqt52_q[1];
-    sqt2_53_q <= sqt52_q[2];
-    l2t54_q <= st01_53_q + sqt2_53_q;
-  end
-
-  // ---- stages 55-65: y_t = 1/sqrt(l2t) ----
-  logic signed [B-1:0] rt_mant65, rt_y65;
-  logic rt_parity65, rt_deg65;
-  logic [5:0] rt_k65;
-  rheo_rsqrt #(.B(B)) u_rsqrt_t (
-    .clk_i(clk_i), .rst_ni(rst_ni), .l2_i(l2t54_q), .mant_o(rt_mant65), .y_o(rt_y65),
-    .parity_o(rt_parity65), .k_o(rt_k65), .degenerate_o(rt_deg65));
-  logic [3*B-1:0] dptn65_flat;
-  logic [EW-1:0] edpt65;
-  rheo_delay #(.W(3*B), .N(14)) u_dptn_d (
-    .clk_i(clk_i), .rst_ni(rst_ni), .d_i(dptn51_flat), .q_o(dptn65_flat));
-  rheo_delay #(.W(EW), .N(14)) u_edpt_d (.clk_i(clk_i), .rst_ni(rst_ni), .d_i(edpt51), .q_o(edpt65));
-
-  // ---- stage 66: m y_t, dp_t^ y_t; stages 67-68: l_t, t ----
-  logic signed [PW-1:0] ltprod66_q, tprod66_q [3];
-  logic [6:0] lts66_q, ts66_q;
-  always_ff @(posedge clk_i) begin
-    ltprod66_q <= rt_mant65 * rt_y65;
-    for (int i = 0; i < 3; i++) tprod66_q[i] <= $signed(dptn65_flat[i*B +: B]) * rt_y65;
-    lts66_q <= 7'(2 * B - 3) - 7'(edpt65) - 7'(rt_parity65) - 7'(rt_k65);
-    ts66_q <= 7'(rt_k65) + 7'd1;
-  end
+  // ---- stages 49-68: l_t = |dp_t|, t = dp_t / |dp_t| (rheo_length_direction) ----
   logic signed [W-1:0] lt68;
+  logic [3*B-1:0] t68_flat;
   logic signed [B-1:0] t68 [3];
-  logic clip_lt68, clip_t68 [3];
-  rheo_round_shift #(.InW(PW), .OutW(W), .ShiftW(7), .MaxLeft(0)) u_lt (
-    .clk_i(clk_i), .v_i(ltprod66_q), .sb_i(lts66_q), .out_o(lt68), .clip_o(clip_lt68));
-  for (genvar i = 0; i < 3; i++) begin : g_t
-    rheo_round_shift #(.InW(PW), .OutW(B), .ShiftW(7), .MaxLeft(0)) u_t (
-      .clk_i(clk_i), .v_i(tprod66_q[i]), .sb_i(ts66_q), .out_o(t68[i]), .clip_o(clip_t68[i]));
-  end
+  logic clip_lt68, deg_t68;
+  rheo_length_direction #(.W(W), .B(B), .EW(EW)) u_len_t (
+    .clk_i(clk_i), .rst_ni(rst_ni), .v_i({dpt48_q[2], dpt48_q[1], dpt48_q[0]}), .l_o(lt68),
+    .u_o(t68_flat), .clip_o(clip_lt68), .degenerate_o(deg_t68));
+  always_comb for (int i = 0; i < 3; i++) t68[i] = t68_flat[i*B +: B];
 
   // ---- stages 53-55: mu F_n (F format) ----
   logic signed [PW-1:0] mprod53_q;
@@ -602,7 +522,7 @@ module rheo_tool #(
     flag_at[9] = clip_along9;
     flag_at[15] = clip_proj15[0] | clip_proj15[1] | clip_proj15[2];
     flag_at[16] = clip16_q;
-    flag_at[36] = clip_l36 | clip_u36[0] | clip_u36[1] | clip_u36[2];
+    flag_at[36] = clip_lu36;
     flag_at[37] = clip_ds37_q;
     flag_at[40] = clip_cross40[0] | clip_cross40[1] | clip_cross40[2];
     flag_at[41] = clip_ldot41;
@@ -611,7 +531,7 @@ module rheo_tool #(
     flag_at[48] = clip48_q | clip_dpt48_q;
     flag_at[49] = clip49_q;
     flag_at[55] = clip_mufn55;
-    flag_at[68] = clip_lt68 | clip_t68[0] | clip_t68[1] | clip_t68[2];
+    flag_at[68] = clip_lt68;
   end
   always_ff @(posedge clk_i) sat_q <= {sat_q[Last-2:0] | flag_at, 1'b0};
 
@@ -622,5 +542,5 @@ module rheo_tool #(
   assign sat_o = v_q[Last] & sat83_q;
 
   logic unused;
-  assign unused = unused_clip_cap74 ^ rt_deg65;  // a zero dp_t gives l_t = 0 and t = 0 anyway
+  assign unused = unused_clip_cap74 ^ deg_t68;  // a zero dp_t gives l_t = 0 and t = 0 anyway
 endmodule

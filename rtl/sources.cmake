@@ -6,12 +6,13 @@
 # CMakeLists.txt, so the lists exist whether or not the Verilator models are built.
 set(RHEO_RTL_DIR ${CMAKE_CURRENT_LIST_DIR})
 
-set(RHEO_RTL_TEM_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_recip.sv rheo_damper_q.sv rheo_damper.sv
-    rheo_harden.sv rheo_tem.sv)
+set(RHEO_RTL_TEM_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_length_direction.sv
+    rheo_recip.sv rheo_damper_q.sv rheo_damper.sv rheo_harden.sv rheo_tem.sv)
 set(RHEO_RTL_MPM_FILES rheo_consts_pkg.sv rheo_mpm.sv)
 # The tool unit (contact of a particle with a rigid tool), verilated alone against the
 # bit-true model and synthesised alone for its cost.
-set(RHEO_RTL_TOOL_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_recip.sv rheo_tool.sv)
+set(RHEO_RTL_TOOL_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_rsqrt.sv rheo_length_direction.sv
+    rheo_recip.sv rheo_tool.sv)
 # Strain hardening's coefficient unit, verilated alone against the bit-true model.
 set(RHEO_RTL_HARDEN_FILES rheo_consts_pkg.sv rheo_operand.sv rheo_recip.sv rheo_damper_q.sv rheo_harden.sv)
 # Volume preservation's element unit, verilated alone against the bit-true model.
