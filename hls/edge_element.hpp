@@ -24,6 +24,7 @@ namespace rheo::hls {
 struct RtlParameter {
   std::string_view name;
   int value = 0;
+  bool tem = true;  // rheo_tem takes it too (false: a parameter of rheo_core only)
 };
 
 struct EdgeElement {
@@ -80,8 +81,8 @@ struct EdgeElement {
     return {RtlParameter{"MaxwellArms", maxwell_arms},
             RtlParameter{"SeriesDamper", series_damper ? 1 : 0},
             RtlParameter{"StrainHardening", strain_hardening ? 1 : 0},
-            RtlParameter{"VolumePreservation", volume_preservation ? 1 : 0},
-            RtlParameter{"ToolContact", tool_contact ? 1 : 0}};
+            RtlParameter{"VolumePreservation", volume_preservation ? 1 : 0, false},
+            RtlParameter{"ToolContact", tool_contact ? 1 : 0, false}};
   }
   friend constexpr bool operator==(const EdgeElement& a, const EdgeElement& b) {
     return a.maxwell_arms == b.maxwell_arms && a.series_damper == b.series_damper &&

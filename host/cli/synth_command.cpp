@@ -368,8 +368,7 @@ void run(const Options& opt) {
       spec.top = "rheo_tem";
       spec.sources = synth::rtl_sources::kTemFiles;
       for (const hls::RtlParameter& p : element->rtl_parameters())
-        if (p.name != "VolumePreservation")  // a core's parameter, not the TEM's
-          spec.params.push_back(std::string(p.name) + "=" + std::to_string(p.value));
+        if (p.tem) spec.params.push_back(std::string(p.name) + "=" + std::to_string(p.value));
     } else if (label == "mpm") {
       spec.top = "rheo_mpm";
       spec.sources = synth::rtl_sources::kMpmFiles;

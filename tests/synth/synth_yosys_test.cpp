@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "host/synth/performance_model.hpp"
+#include "host/synth/rtl_sources.hpp"
 #include "host/synth/yosys_runner.hpp"
 #include "sim/error.hpp"
 
@@ -25,10 +26,8 @@ constexpr int kMaxTemMultipliers = 22 + 4;
 TEST(YosysSynthesis, TemReportIsParsedAndPlausible) {
   const fs::path out = fs::temp_directory_path() / "rheo_synth_yosys_test";
   fs::remove_all(out);
-  DesignSpec spec{"tem",
-                  "rheo_tem",
-                  {"rheo_consts_pkg.sv", "rheo_operand.sv", "rheo_rsqrt.sv", "rheo_tem.sv"},
-                  {}};
+  // The TEM's source list is rtl/sources.cmake's, as `rheo synth` uses it.
+  DesignSpec spec{"tem", "rheo_tem", rtl_sources::kTemFiles, {}};
   const SynthResult r = run_synthesis(spec, default_setup(), out);
   EXPECT_GT(r.resources.lut4, 1000);
   EXPECT_GT(r.resources.ff, 500);  // 40 pipeline stages
