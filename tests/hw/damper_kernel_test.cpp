@@ -88,9 +88,10 @@ TEST(DamperKernel, EdgeCoefficientsFollowTheSeriesViscosityOverTheWholeForceRang
   const double dt = 1.0;
   double worst = 0.0;
   for (int n = 0; n < 3000; ++n) {
-    const double f1 = f(rng);
-    const EdgeMaterial m = damper_material(std::pow(10.0, log_c(rng)), std::pow(10.0, log_c(rng)) * 10.0,
-                                           std::pow(10.0, log_ratio(rng)), f1, f1 + f(rng));
+    // One declaration per draw: a call's arguments are evaluated in the compiler's order.
+    const double f1 = f(rng), c1_draw = std::pow(10.0, log_c(rng)),
+                 c2_draw = std::pow(10.0, log_c(rng)) * 10.0, ratio = std::pow(10.0, log_ratio(rng)), f2 = f1 + f(rng);
+    const EdgeMaterial m = damper_material(c1_draw, c2_draw, ratio, f1, f2);
     const MaterialCoefs mc = encode_with_damper(m, dt);
     // |d - L| from 0 to 1.5 f2 / k1: below f1, across the fall and above f2
     const double ds = (u(rng) < 0.5 ? -1.0 : 1.0) * u(rng) * 1.5 * m.f2;
@@ -127,10 +128,10 @@ TEST(DamperKernel, TemMatchesTheDoubleKernelWithTheNonlinearDamper) {
   const double dt = 1.0;
   int thinned = 0;
   for (int n = 0; n < 3000; ++n) {
-    const double f1 = f(rng);
-    const EdgeMaterial m = damper_material(std::pow(10.0, log_c(rng)) * 10.0,
-                                           std::pow(10.0, log_c(rng)) * 10.0,
-                                           std::pow(10.0, log_ratio(rng)), f1, f1 + f(rng));
+    const double f1 = f(rng), c1_draw = std::pow(10.0, log_c(rng)) * 10.0,
+                 c2_draw = std::pow(10.0, log_c(rng)) * 10.0, ratio = std::pow(10.0, log_ratio(rng)),
+                 f2 = f1 + f(rng);
+    const EdgeMaterial m = damper_material(c1_draw, c2_draw, ratio, f1, f2);
     const MaterialCoefs mc = encode_with_damper(m, dt);
     const RandomEdge e = random_edge(rng);
     std::uint32_t status = 0;

@@ -177,10 +177,10 @@ Element draw(std::mt19937_64& rng) {
     // A realistic element: a jittered corner tetrahedron of edge length 0.05 .. 4, rotated,
     // in either orientation, inside |x| < 15; its current shape strained by a few percent.
     const double size = 0.05 + 3.95 * unit(rng) * unit(rng);  // small ones more often
-    const Eigen::Quaterniond q(Eigen::Vector4d(sym(rng), sym(rng), sym(rng), sym(rng)).normalized());
+    const Eigen::Quaterniond q(Eigen::Vector4d{sym(rng), sym(rng), sym(rng), sym(rng)}.normalized());
     const Eigen::Matrix3d rot = q.toRotationMatrix();
     const double reach = 15.0 - 1.6 * size;
-    const Eigen::Vector3d centre(reach * sym(rng), reach * sym(rng), reach * sym(rng));
+    const Eigen::Vector3d centre{reach * sym(rng), reach * sym(rng), reach * sym(rng)};
     const Eigen::Vector3d base[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     Eigen::Vector3d rest[4], now[4];
     const double strain = 0.05 * unit(rng);
@@ -188,7 +188,7 @@ Element draw(std::mt19937_64& rng) {
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) deform(r, c) += strain * sym(rng);
     for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector3d jitter(0.25 * sym(rng), 0.25 * sym(rng), 0.25 * sym(rng));
+      const Eigen::Vector3d jitter{0.25 * sym(rng), 0.25 * sym(rng), 0.25 * sym(rng)};
       rest[k] = centre + size * (rot * (base[k] + jitter));
     }
     if (unit(rng) < 0.5) std::swap(rest[2], rest[3]);  // the other orientation

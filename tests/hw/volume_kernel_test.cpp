@@ -68,14 +68,14 @@ Tet random_tet(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0), size(0.05, 3.0), pos(-10.0, 10.0);
   Tet t;
   const double s = size(rng);
-  const Eigen::Vector3d c(pos(rng), pos(rng), pos(rng));
+  const Eigen::Vector3d c{pos(rng), pos(rng), pos(rng)};
   // A regular-ish element, jittered, so that it is never nearly flat.
   const Eigen::Vector3d base[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   const Eigen::Matrix3d rot =
-      Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized())
+      Eigen::Quaterniond(Eigen::Vector4d{u(rng), u(rng), u(rng), u(rng)}.normalized())
           .toRotationMatrix();
   for (int k = 0; k < 4; ++k) {
-    const Eigen::Vector3d jitter(0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng));
+    const Eigen::Vector3d jitter{0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng)};
     t.p[k] = c + s * (rot * (base[k] + jitter));
   }
   if (u(rng) < 0.0) std::swap(t.p[1], t.p[2]);  // both orientations
@@ -87,14 +87,14 @@ Tet random_triangle(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0), size(0.05, 3.0), pos(-10.0, 10.0);
   Tet t;
   const double s = size(rng), turn = 3.14159265358979 * u(rng), y = pos(rng);
-  const Eigen::Vector3d c(pos(rng), y, pos(rng));
+  const Eigen::Vector3d c{pos(rng), y, pos(rng)};
   const double base[3][2] = {{0, 0}, {1, 0}, {0, 1}};
   for (int k = 0; k < 3; ++k) {
     const double bx = base[k][0] + 0.2 * u(rng), bz = base[k][1] + 0.2 * u(rng);
     t.p[k] = c + s * Eigen::Vector3d(std::cos(turn) * bx - std::sin(turn) * bz, 0.0,
                                      std::sin(turn) * bx + std::cos(turn) * bz);
   }
-  t.p[3] = Eigen::Vector3d(pos(rng), pos(rng), pos(rng));  // not a vertex: never read
+  t.p[3] = Eigen::Vector3d{pos(rng), pos(rng), pos(rng)};  // not a vertex: never read
   if (u(rng) < 0.0) std::swap(t.p[1], t.p[2]);
   return t;
 }

@@ -226,8 +226,8 @@ Scrambled scrambled_block() {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double h = 0.01;
   for (int i = 0; i < s.model.num_particles(); ++i) {
-    s.state.x[i] += 0.3 * h * Vec3(u(rng), u(rng), u(rng));
-    s.state.v[i] = 0.05 * Vec3(u(rng), u(rng), u(rng));
+    s.state.x[i] += 0.3 * h * Vec3{u(rng), u(rng), u(rng)};
+    s.state.v[i] = 0.05 * Vec3{u(rng), u(rng), u(rng)};
   }
   for (int k = 0; k < s.model.num_edges(); ++k) {
     s.state.d[k] *= 1.0 + 0.2 * u(rng);
@@ -325,7 +325,7 @@ TEST(ElementForces, AreTheGradientsOfTheirPotentialsIn2D) {
   State s = initial_state(m);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (auto& x : s.x) x += 0.003 * Vec3(u(rng), 0.0, u(rng));
+  for (auto& x : s.x) x += 0.003 * Vec3{u(rng), 0.0, u(rng)};
   expect_forces_are_potential_gradients(m, s);
 }
 
