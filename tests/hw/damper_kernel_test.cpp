@@ -90,7 +90,8 @@ TEST(DamperKernel, EdgeCoefficientsFollowTheSeriesViscosityOverTheWholeForceRang
   for (int n = 0; n < 3000; ++n) {
     // One declaration per draw: a call's arguments are evaluated in the compiler's order.
     const double f1 = f(rng), c1_draw = std::pow(10.0, log_c(rng)),
-                 c2_draw = std::pow(10.0, log_c(rng)) * 10.0, ratio = std::pow(10.0, log_ratio(rng)), f2 = f1 + f(rng);
+                 c2_draw = std::pow(10.0, log_c(rng)) * 10.0,
+                 ratio = std::pow(10.0, log_ratio(rng)), f2 = f1 + f(rng);
     const EdgeMaterial m = damper_material(c1_draw, c2_draw, ratio, f1, f2);
     const MaterialCoefs mc = encode_with_damper(m, dt);
     // |d - L| from 0 to 1.5 f2 / k1: below f1, across the fall and above f2
@@ -129,7 +130,8 @@ TEST(DamperKernel, TemMatchesTheDoubleKernelWithTheNonlinearDamper) {
   int thinned = 0;
   for (int n = 0; n < 3000; ++n) {
     const double f1 = f(rng), c1_draw = std::pow(10.0, log_c(rng)) * 10.0,
-                 c2_draw = std::pow(10.0, log_c(rng)) * 10.0, ratio = std::pow(10.0, log_ratio(rng)),
+                 c2_draw = std::pow(10.0, log_c(rng)) * 10.0,
+                 ratio = std::pow(10.0, log_ratio(rng)),
                  f2 = f1 + f(rng);
     const EdgeMaterial m = damper_material(c1_draw, c2_draw, ratio, f1, f2);
     const MaterialCoefs mc = encode_with_damper(m, dt);
