@@ -59,89 +59,166 @@ Topology find_topology(const Model& model) {
   return t;
 }
 
-// Counts of a candidate slab, for the partition.
+// Counts of candidate slabs, for the partition. The ghost particles of a slab starting at f
+// are [ghost_first(f), f): the particles below f with an edge reaching f or beyond.
 class SlabCost {
  public:
-  explicit SlabCost(const Topology& t) : t_(t) {}
+  explicit SlabCost(const Topology& t) : t_(t), np_(int(t.out_mask.size())) {
+    reach_ = t.offset.empty() ? 0 : int(t.offset.back());
+    // full_[s]: particle s's own slots when all its edges end inside the slab.
+    prefix_.assign(np_ + 1, 0);
+    for (int s = 0; s < np_; ++s)
+      prefix_[s + 1] = prefix_[s] + std::max(std::popcount(t.out_mask[s]), hls::kSweepOwnMinSlots);
+    // tail_[g]: the own slots of [g - reach, g) in a slab ending at g (their edges may leave it).
+    tail_.assign(np_ + 1, 0);
+    for (int g = 0; g <= np_; ++g) tail_[g] = own_slots_direct(std::max(0, g - reach_), g);
+    ghost_first_.assign(np_ + 1, 0);
+    cross_slots_.assign(np_ + 1, 0);
+    for (int f = 0; f <= np_; ++f) {
+      int gf = f;
+      for (int g = std::max(0, f - reach_); g < f; ++g)
+        if (cross_edges(g, f) > 0) {
+          gf = g;
+          break;
+        }
+      ghost_first_[f] = gf;
+      for (int g = gf; g < f; ++g)
+        cross_slots_[f] += std::max(cross_edges(g, f), hls::kSweepCrossMinSlots);
+    }
+  }
 
   // Slots of the own particles of slab [first, end): max(2, edges inside the slab) each.
   long own_slots(int first, int end) const {
-    long slots = 0;
-    for (int s = first; s < end; ++s) {
-      int n = 0;
-      for (int k = 0; k < int(t_.offset.size()); ++k)
-        if ((t_.out_mask[s] >> k & 1u) && s + int(t_.offset[k]) < end) ++n;
-      slots += std::max(n, hls::kSweepOwnMinSlots);
-    }
-    return slots;
+    if (end - reach_ < first) return own_slots_direct(first, end);
+    return prefix_[end - reach_] - prefix_[first] + tail_[end];
   }
-  // The lowest particle below `first` with an edge reaching `first` or beyond (first if none).
-  int ghost_first(int first) const {
-    const int lowest = std::max(0, first - hls::kSweepMaxOffset);
-    for (int g = lowest; g < first; ++g)
-      if (cross_edges(g, first) > 0) return g;
-    return first;
-  }
+  int ghost_first(int first) const { return ghost_first_[first]; }
+  // Slots of the ghost particles of a slab starting at `first`.
+  long cross_slots(int first) const { return cross_slots_[first]; }
   int cross_edges(int g, int first) const {
     int n = 0;
     for (int k = 0; k < int(t_.offset.size()); ++k)
       if ((t_.out_mask[g] >> k & 1u) && g + int(t_.offset[k]) >= first) ++n;
     return n;
   }
-  // Slots of the ghost particles of a slab starting at `first`.
-  long cross_slots(int first) const {
-    long slots = 0;
-    for (int g = ghost_first(first); g < first; ++g)
-      slots += std::max(cross_edges(g, first), hls::kSweepCrossMinSlots);
-    return slots;
+  int own_edges(int s, int end) const {
+    int n = 0;
+    for (int k = 0; k < int(t_.offset.size()); ++k)
+      if ((t_.out_mask[s] >> k & 1u) && s + int(t_.offset[k]) < end) ++n;
+    return n;
   }
 
  private:
+  long own_slots_direct(int first, int end) const {
+    long slots = 0;
+    for (int s = first; s < end; ++s) slots += std::max(own_edges(s, end), hls::kSweepOwnMinSlots);
+    return slots;
+  }
+
   const Topology& t_;
+  int np_ = 0, reach_ = 0;
+  std::vector<long> prefix_, tail_, cross_slots_;
+  std::vector<int> ghost_first_;
 };
 
-// Slab boundaries whose largest lane load (cross and own slots) is at most `target`: each
-// lane takes as many particles as fit, from the left. Empty if they do not cover the model.
-std::vector<int> fill_lanes(const SlabCost& cost, int np, const SweepCoreShape& shape, long target) {
-  std::vector<int> first{0};
-  int f = 0;
-  for (int j = 0; j < shape.lanes && f < np; ++j) {
-    const long cross = j == 0 ? 0 : cost.cross_slots(f);
-    if (cross > target) return {};
+// A cut's schedule, as the core runs it: per lane its slots and start delay, per particle
+// the last slot of its cross group (in the lane above) and of its own group, and the step's
+// clocks. Lane j's cross sweep must have written a ghost particle's sum before the lane below
+// runs that particle's MPM (docs/sweep_core.md, "Ghosts"): its last cross slot before the
+// particle's last own slot there, which the lower lane's start delay ensures.
+struct CutSchedule {
+  std::vector<long> slots, delay;
+  std::vector<long> cross_last, own_last;
+  long clocks = 0;
+};
+
+CutSchedule schedule_cut(const SlabCost& cost, const std::vector<int>& first, int np) {
+  const int lanes = int(first.size()) - 1;
+  CutSchedule c;
+  c.slots.assign(lanes, 0);
+  c.delay.assign(lanes, 0);
+  c.cross_last.assign(np, -1);
+  c.own_last.assign(np, -1);
+  for (int j = 0; j < lanes; ++j) {
+    const int f = first[j], end = first[j + 1];
+    long slot = 0;
+    for (int g = j == 0 ? f : cost.ghost_first(f); g < f; ++g) {
+      slot += std::max(cost.cross_edges(g, f), hls::kSweepCrossMinSlots);
+      c.cross_last[g] = slot - 1;
+    }
+    for (int s = f; s < end; ++s) {
+      slot += std::max(cost.own_edges(s, end), hls::kSweepOwnMinSlots);
+      c.own_last[s] = slot - 1;
+    }
+    c.slots[j] = slot;
+  }
+  for (int j = lanes - 1; j >= 1; --j) {
+    long need = 0;
+    for (int g = cost.ghost_first(first[j]); g < first[j]; ++g)
+      need = std::max(need, c.delay[j] + c.cross_last[g] + 1 - c.own_last[g]);
+    c.delay[j - 1] = std::max(c.delay[j - 1], need);
+  }
+  long longest = 0;
+  for (int j = 0; j < lanes; ++j) longest = std::max(longest, c.delay[j] + c.slots[j]);
+  c.clocks = longest + hls::kSweepDrainCycles;
+  return c;
+}
+
+// The cut with the fewest slabs among those whose every lane load (cross and own slots) is
+// at most `target` and that the core can run: at most shape.lanes slabs of at most
+// slab_depth particles, each slab's ghosts within the slab below and at most ghost_depth
+// deep. Empty if there is none. A dynamic programme over slab ends: for each end g and slab
+// count, the lowest start of the last slab (a lower start leaves the next slab's ghosts the
+// most room), so the search is exact, not greedy.
+std::vector<int> cut_within(const SlabCost& cost, int np, const SweepCoreShape& shape, long target) {
+  // Per start f: the last end g with the slab [f, g) within the target and the slab depth
+  // (f itself if none), and whether a slab may start at f at all.
+  std::vector<int> last_end(np, 0);
+  for (int f = 0; f < np; ++f) {
+    const long cross = f == 0 ? 0 : cost.cross_slots(f);
     int lo = f, hi = std::min(np, f + shape.slab_depth);
-    // The largest end with cross + own slots <= target (own slots grow with the end).
-    while (lo < hi) {
+    while (lo < hi) {  // own slots grow with the end
       const int mid = lo + (hi - lo + 1) / 2;
       if (cross + cost.own_slots(f, mid) <= target)
         lo = mid;
       else
         hi = mid - 1;
     }
-    if (lo == f) return {};
-    f = lo;
-    first.push_back(f);
+    last_end[f] = lo;
   }
-  if (f < np) return {};
+  // start[n][g]: the lowest start of the n-th slab of a cut of [0, g) into n + 1 slabs.
+  std::vector<std::vector<int>> start(shape.lanes, std::vector<int>(np + 1, -1));
+  for (int g = 1; g <= last_end[0]; ++g) start[0][g] = 0;
+  int slabs = start[0][np] >= 0 ? 1 : 0;
+  for (int n = 1; n < shape.lanes && slabs == 0; ++n) {
+    int covered = 0;  // ends up to here have their lowest start already
+    for (int f = 1; f < np; ++f) {
+      const int below = start[n - 1][f];
+      if (below < 0 || cost.ghost_first(f) < below || f - cost.ghost_first(f) > shape.ghost_depth)
+        continue;
+      for (int g = std::max(covered, f) + 1; g <= last_end[f]; ++g) start[n][g] = f;
+      covered = std::max(covered, last_end[f]);
+    }
+    if (start[n][np] >= 0) slabs = n + 1;
+  }
+  if (slabs == 0) return {};
+  std::vector<int> first(slabs + 1, np);
+  for (int n = slabs - 1, g = np; n >= 0; --n) g = first[n] = start[n][g];
   return first;
 }
 
-// Why slabs with these boundaries cannot run (empty: they can).
-std::string slab_problem(const SlabCost& cost, const std::vector<int>& first,
-                         const SweepCoreShape& shape) {
-  for (std::size_t j = 1; j + 1 < first.size(); ++j) {
-    const int f = first[j], end = first[j + 1];
-    const int gf = cost.ghost_first(f);
-    if (gf < first[j - 1]) {
-      return "an edge into lane " + std::to_string(j) + "'s slab (particles " + std::to_string(f) +
-             ".." + std::to_string(end - 1) + ") starts two slabs below it (particle " +
-             std::to_string(gf) + ")";
-    }
-    if (f - gf > shape.ghost_depth) {
-      return "lane " + std::to_string(j) + " needs a ghost copy of " + std::to_string(f - gf) +
-             " particles, the core keeps " + std::to_string(shape.ghost_depth);
-    }
+// Why no cut exists (the model is known to fit the slabs' total depth).
+std::string why_no_cut(const SlabCost& cost, int np, const SweepCoreShape& shape) {
+  int thinnest = np;
+  for (int f = 1; f < np; ++f) thinnest = std::min(thinnest, f - cost.ghost_first(f));
+  if (thinnest > shape.ghost_depth) {
+    return "every slab boundary needs a ghost copy of at least " + std::to_string(thinnest) +
+           " particles, the core keeps " + std::to_string(shape.ghost_depth);
   }
-  return "";
+  return "no cut into at most " + std::to_string(shape.lanes) + " slabs of at most " +
+         std::to_string(shape.slab_depth) + " particles keeps every slab's ghosts (the " +
+         "particles below it with an edge into it) within the slab below and within a ghost " +
+         "copy of " + std::to_string(shape.ghost_depth);
 }
 
 }  // namespace
@@ -230,36 +307,34 @@ SweepImage make_sweep_image(const Model& model_in, const State& state, double dt
                 " lanes of " + std::to_string(shape.slab_depth) + " hold " +
                 std::to_string(shape.lanes * shape.slab_depth));
   }
+  // The fewest clocks per step: the lowest lane-load bound any cut meets, then the cuts of
+  // slightly higher bounds too (their start delays differ), each scheduled as the core runs it.
   const SlabCost cost(topo);
-  long lo = 1, hi = cost.own_slots(0, np) + 1;
-  // One lane's whole stream bounds every lane's load for any cut.
-  hi = std::max(hi, lo);
-  long upper = hi;
-  for (long t = hi; fill_lanes(cost, np, shape, t).empty(); t *= 2) {
-    upper = t * 2;
-    if (t > (1l << 40)) throw Error("sweep core: no slab cut fits the lanes' memories");
+  long lo = 1, hi = cost.own_slots(0, np) + cost.cross_slots(np) + 1;
+  for (int f = 0; f < np; ++f) hi = std::max(hi, cost.cross_slots(f) + cost.own_slots(f, np) + 1);
+  if (cut_within(cost, np, shape, hi).empty()) {
+    throw Error("sweep core: the model's slabs cannot be cut for " + std::to_string(shape.lanes) +
+                " lanes: " + why_no_cut(cost, np, shape) +
+                " (each lane's slab must be at least as thick as the edges' reach; use fewer "
+                "lanes or deeper slabs)");
   }
-  hi = upper;
   while (lo < hi) {
     const long mid = lo + (hi - lo) / 2;
-    if (fill_lanes(cost, np, shape, mid).empty())
+    if (cut_within(cost, np, shape, mid).empty())
       lo = mid + 1;
     else
       hi = mid;
   }
   std::vector<int> first;
-  std::string problem = "no cut covers the particles";
-  for (long t = lo; t <= upper; t += std::max(1l, t / 256)) {
-    first = fill_lanes(cost, np, shape, t);
-    if (first.empty()) continue;
-    problem = slab_problem(cost, first, shape);
-    if (problem.empty()) break;
-    first.clear();
-  }
-  if (first.empty()) {
-    throw Error("sweep core: the model's slabs cannot be cut for " + std::to_string(shape.lanes) +
-                " lanes: " + problem + " (each lane's slab must be at least as thick as the "
-                "edges' reach; use fewer lanes)");
+  CutSchedule plan;
+  for (long t = lo; t <= lo + lo / 16; t += std::max(1l, lo / 512)) {
+    std::vector<int> cut = cut_within(cost, np, shape, t);
+    if (cut.empty() || cut == first) continue;
+    CutSchedule c = schedule_cut(cost, cut, np);
+    if (first.empty() || c.clocks < plan.clocks) {
+      first = std::move(cut);
+      plan = std::move(c);
+    }
   }
   img.lanes_used = int(first.size()) - 1;
   img.lane.assign(shape.lanes, SweepLaneImage{});
@@ -267,6 +342,8 @@ SweepImage make_sweep_image(const Model& model_in, const State& state, double dt
     img.lane[j].first = first[j];
     img.lane[j].count = first[j + 1] - first[j];
     img.lane[j].ghost = j == 0 ? 0 : first[j] - cost.ghost_first(first[j]);
+    img.lane[j].slots = plan.slots[j];
+    img.lane[j].delay = int(plan.delay[j]);
   }
   for (int j = img.lanes_used; j < shape.lanes; ++j) img.lane[j].first = np;
 
@@ -284,12 +361,9 @@ SweepImage make_sweep_image(const Model& model_in, const State& state, double dt
   }
   for (auto& v : out_edges) std::sort(v.begin(), v.end());
   img.edge_slot.assign(model.edges.size(), 0);
-  // Per particle: the last slot of its cross group (in the lane above) and of its own group.
-  std::vector<long> cross_last(np, -1), own_last(np, -1);
   for (int j = 0; j < img.lanes_used; ++j) {
     SweepLaneImage& l = img.lane[j];
     const int end = l.first + l.count;
-    long slot = 0;
     auto add = [&](int k) {
       const hls::EdgeEntry& ee = b.edges[b.edge_slot[k]];
       hls::SweepEdgeWord w;
@@ -299,50 +373,28 @@ SweepImage make_sweep_image(const Model& model_in, const State& state, double dt
       img.edge_slot[k] = (std::uint32_t(j) << hls::kSweepSlotLaneShift) | std::uint32_t(l.stream.size());
       l.stream.push_back(w);
     };
+    // The slots between the edges (padding) are the schedule's (schedule_cut).
     for (int g = l.first - l.ghost; g < l.first; ++g) {
-      int n = 0;
       for (const auto& [bit, k] : out_edges[g]) {
         if (model.edges[k].e < l.first) continue;
         add(k);
-        ++n;
         ++l.cross_edges;
       }
-      slot += std::max(n, hls::kSweepCrossMinSlots);
-      cross_last[g] = slot - 1;
     }
     for (int s = l.first; s < end; ++s) {
-      int n = 0;
       for (const auto& [bit, k] : out_edges[s]) {
         if (model.edges[k].e >= end) continue;
         add(k);
-        ++n;
         ++l.own_edges;
       }
-      slot += std::max(n, hls::kSweepOwnMinSlots);
-      own_last[s] = slot - 1;
     }
-    l.slots = slot;
     if (long(l.stream.size()) > hls::kZbtDepth) {
       throw Error("sweep core: lane " + std::to_string(j) + " streams " +
                   std::to_string(l.stream.size()) + " edges, its SRAM holds " +
                   std::to_string(hls::kZbtDepth));
     }
   }
-  // Start delays: lane j's cross sweep must have written a ghost particle's sum before the
-  // lane below runs that particle's MPM (docs/sweep_core.md, "Cross edges"): its last cross
-  // slot before the particle's last own slot there.
-  for (int j = img.lanes_used - 1; j >= 1; --j) {
-    const SweepLaneImage& up = img.lane[j];
-    SweepLaneImage& down = img.lane[j - 1];
-    long need = 0;
-    for (int g = up.first - up.ghost; g < up.first; ++g)
-      need = std::max(need, long(up.delay) + cross_last[g] + 1 - own_last[g]);
-    down.delay = std::max(down.delay, int(need));
-  }
-  long longest = 0;
-  for (int j = 0; j < img.lanes_used; ++j)
-    longest = std::max(longest, long(img.lane[j].delay) + img.lane[j].slots);
-  img.cycles_per_step = longest + hls::kSweepDrainCycles;
+  img.cycles_per_step = plan.clocks;
   return img;
 }
 

@@ -6,6 +6,7 @@
 // with the reason.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <numeric>
@@ -74,9 +75,9 @@ Scenario lattice(int nx, int ny, int nz) {
   return s;
 }
 
-TEST(SweepKernel, Block5EqualsCoreStepAtOneToFourLanes) {
+TEST(SweepKernel, Block5EqualsCoreStepAtOneToFiveLanes) {
   const Scenario s = load_scenario("block5");
-  for (int lanes = 1; lanes <= 4; ++lanes)
+  for (int lanes = 1; lanes <= 5; ++lanes)
     EXPECT_EQ(compare(s, s.build_model(), lanes, 400), 0) << lanes << " lanes";
 }
 
@@ -144,10 +145,11 @@ TEST(SweepKernel, SlabsAreContiguousBalancedAndTheirGhostsCoverTheCrossEdges) {
 }
 
 void expect_refused(const Model& m, double dt, int lanes, const std::string& words,
-                    int ghost_depth = hls::kSweepGhostDepth) {
+                    int ghost_depth = hls::kSweepGhostDepth, int slab_depth = hls::kSweepSlabDepth) {
   SweepCoreShape shape;
   shape.lanes = lanes;
   shape.ghost_depth = ghost_depth;
+  shape.slab_depth = slab_depth;
   try {
     make_sweep_image(m, initial_state(m), dt, shape);
     ADD_FAILURE() << "not refused: " << words;
@@ -159,8 +161,9 @@ void expect_refused(const Model& m, double dt, int lanes, const std::string& wor
 TEST(SweepKernel, ModelsTheCoreCannotTakeAreRefusedWithTheReason) {
   const Scenario s = load_scenario("block5");
   const Model base = s.build_model();
-  // A ghost copy smaller than the edges' reach (31 particles in block5).
-  expect_refused(base, s.options.dt, 2, "ghost copy of", 16);
+  // A ghost copy smaller than a layer (25 particles in block5), with slabs too shallow for
+  // the whole block in one.
+  expect_refused(base, s.options.dt, 2, "ghost copy of", 16, 100);
   // More offsets than the mask has bits: a random shuffle of the particle numbers.
   Model shuffled = base;
   std::vector<int> perm(base.num_particles());
@@ -209,10 +212,11 @@ TEST(SweepKernel, FramesThroughTheTransportEqualRheoCoresWords) {
   EXPECT_THROW(sweep.load_frames({frame::header(frame::kOpWrite, frame::kRegionEdgeLength, 1), 0u, 5u}, 5, true), Error);
 }
 
-TEST(SweepKernel, SlabsThinnerThanTheReachTakeFewerLanes) {
-  // block5's edges reach 31 particles up; five slabs of 25 would put an edge two slabs
-  // up, so the cut uses four lanes (and the image says so).
-  const Scenario s = load_scenario("block5");
+TEST(SweepKernel, SlabsThinnerThanALayerTakeFewerLanes) {
+  // A lattice's edges join neighbouring layers only, so one layer (25 particles in block5)
+  // is the thinnest slab whose ghosts all lie in the slab below. Four layers give at most
+  // four lanes of the five.
+  const Scenario s = lattice(5, 5, 4);
   const Model m = s.build_model();
   SweepCoreShape shape;
   shape.lanes = 5;
@@ -221,6 +225,89 @@ TEST(SweepKernel, SlabsThinnerThanTheReachTakeFewerLanes) {
   EXPECT_EQ(img.lane[4].count, 0);
   for (int j = 1; j < img.lanes_used; ++j)
     EXPECT_GE(img.lane[j].first - img.lane[j].ghost, img.lane[j - 1].first);
+}
+
+// The step's clocks of a cut (slab starts, then the particle count), from the model's edges
+// and the rules of docs/sweep_core.md alone: a lane's slots are max(1, edges into the slab)
+// per ghost particle and max(2, edges inside the slab) per own particle; the lane below
+// starts late enough that every ghost's last cross slot precedes that particle's last own
+// slot there; clocks = the latest lane's delay + slots, plus the drain. -1 where the core
+// cannot run the cut (a slab's ghosts beyond the slab below, or deeper than its copy).
+long documented_clocks(const Model& m, const std::vector<int>& first, int ghost_depth) {
+  const int lanes = int(first.size()) - 1, np = m.num_particles();
+  std::vector<int> lane_of(np);
+  for (int j = 0; j < lanes; ++j)
+    for (int i = first[j]; i < first[j + 1]; ++i) lane_of[i] = j;
+  std::vector<int> ghost_from(lanes);
+  std::vector<std::vector<int>> cross(lanes, std::vector<int>(np, 0)), own(np);
+  std::vector<int> own_count(np, 0);
+  for (int j = 0; j < lanes; ++j) ghost_from[j] = first[j];
+  for (const Edge& e : m.edges) {
+    const int j = lane_of[e.e];
+    if (e.s < first[j]) {
+      ++cross[j][e.s];
+      ghost_from[j] = std::min(ghost_from[j], e.s);
+    } else {
+      ++own_count[e.s];
+    }
+  }
+  std::vector<long> slots(lanes, 0), delay(lanes, 0), cross_last(np, -1), own_last(np, -1);
+  for (int j = 0; j < lanes; ++j) {
+    if (j > 0 && (ghost_from[j] < first[j - 1] || first[j] - ghost_from[j] > ghost_depth))
+      return -1;
+    for (int g = ghost_from[j]; g < first[j]; ++g) {
+      slots[j] += std::max(cross[j][g], 1);
+      cross_last[g] = slots[j] - 1;
+    }
+    for (int i = first[j]; i < first[j + 1]; ++i) {
+      slots[j] += std::max(own_count[i], 2);
+      own_last[i] = slots[j] - 1;
+    }
+  }
+  for (int j = lanes - 1; j >= 1; --j)
+    for (int g = ghost_from[j]; g < first[j]; ++g)
+      delay[j - 1] = std::max(delay[j - 1], delay[j] + cross_last[g] + 1 - own_last[g]);
+  long clocks = 0;
+  for (int j = 0; j < lanes; ++j) clocks = std::max(clocks, delay[j] + slots[j]);
+  return clocks + hls::kSweepDrainCycles;
+}
+
+TEST(SweepKernel, TheCutIsTheFastestOfAllCutsTheCoreCanRun) {
+  // Every cut of a 60-particle lattice into 1 to 4 slabs, scheduled by the documented rules:
+  // the image's cut takes the fewest clocks of them all, and its own count is the rules'.
+  for (const auto& [nx, ny, nz] : {std::array{4, 3, 5}, std::array{3, 5, 4}}) {
+    const Scenario s = lattice(nx, ny, nz);
+    const Model m = orient_edges_low_to_high(s.build_model());
+    const int np = m.num_particles();
+    SweepCoreShape shape;
+    shape.lanes = 4;
+    const SweepImage img = make_sweep_image(m, initial_state(m), s.options.dt, shape);
+    std::vector<int> chosen;
+    for (int j = 0; j < img.lanes_used; ++j) chosen.push_back(img.lane[j].first);
+    chosen.push_back(np);
+    EXPECT_EQ(documented_clocks(m, chosen, shape.ghost_depth), img.cycles_per_step);
+    long best = -1, cuts = 0;
+    std::vector<int> first{0};
+    std::function<void(int)> cut_after = [&](int from) {
+      first.push_back(np);
+      const long c = documented_clocks(m, first, shape.ghost_depth);
+      first.pop_back();
+      if (c >= 0) {
+        ++cuts;
+        if (best < 0 || c < best) best = c;
+      }
+      if (int(first.size()) == shape.lanes) return;
+      for (int f = from + 1; f < np; ++f) {
+        first.push_back(f);
+        cut_after(f);
+        first.pop_back();
+      }
+    };
+    cut_after(0);
+    EXPECT_GT(cuts, 1000);
+    EXPECT_EQ(img.cycles_per_step, best) << nx << " x " << ny << " x " << nz << ", " << cuts
+                                         << " cuts the core can run";
+  }
 }
 
 TEST(SweepKernel, AFixedParticleAwayFromHomeIsRefused) {
