@@ -65,7 +65,7 @@ class SlabCost {
  public:
   explicit SlabCost(const Topology& t) : t_(t), np_(int(t.out_mask.size())) {
     reach_ = t.offset.empty() ? 0 : int(t.offset.back());
-    // full_[s]: particle s's own slots when all its edges end inside the slab.
+    // prefix_[s]: the own slots of particles 0..s-1 when all their edges end inside the slab.
     prefix_.assign(np_ + 1, 0);
     for (int s = 0; s < np_; ++s)
       prefix_[s + 1] = prefix_[s] + std::max(std::popcount(t.out_mask[s]), hls::kSweepOwnMinSlots);
