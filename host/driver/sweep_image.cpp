@@ -121,14 +121,12 @@ class SlabCost {
   std::vector<int> ghost_first_;
 };
 
-// A cut's schedule, as the core runs it: per lane its slots and start delay, per particle
-// the last slot of its cross group (in the lane above) and of its own group, and the step's
+// A cut's schedule, as the core runs it: per lane its slots and start delay, and the step's
 // clocks. Lane j's cross sweep must have written a ghost particle's sum before the lane below
 // runs that particle's MPM (docs/sweep_core.md, "Ghosts"): its last cross slot before the
 // particle's last own slot there, which the lower lane's start delay ensures.
 struct CutSchedule {
   std::vector<long> slots, delay;
-  std::vector<long> cross_last, own_last;
   long clocks = 0;
 };
 
@@ -137,25 +135,25 @@ CutSchedule schedule_cut(const SlabCost& cost, const std::vector<int>& first, in
   CutSchedule c;
   c.slots.assign(lanes, 0);
   c.delay.assign(lanes, 0);
-  c.cross_last.assign(np, -1);
-  c.own_last.assign(np, -1);
+  // Per particle: the last slot of its cross group (in the lane above) and of its own group.
+  std::vector<long> cross_last(np, -1), own_last(np, -1);
   for (int j = 0; j < lanes; ++j) {
     const int f = first[j], end = first[j + 1];
     long slot = 0;
     for (int g = j == 0 ? f : cost.ghost_first(f); g < f; ++g) {
       slot += std::max(cost.cross_edges(g, f), hls::kSweepCrossMinSlots);
-      c.cross_last[g] = slot - 1;
+      cross_last[g] = slot - 1;
     }
     for (int s = f; s < end; ++s) {
       slot += std::max(cost.own_edges(s, end), hls::kSweepOwnMinSlots);
-      c.own_last[s] = slot - 1;
+      own_last[s] = slot - 1;
     }
     c.slots[j] = slot;
   }
   for (int j = lanes - 1; j >= 1; --j) {
     long need = 0;
     for (int g = cost.ghost_first(first[j]); g < first[j]; ++g)
-      need = std::max(need, c.delay[j] + c.cross_last[g] + 1 - c.own_last[g]);
+      need = std::max(need, c.delay[j] + cross_last[g] + 1 - own_last[g]);
     c.delay[j - 1] = std::max(c.delay[j - 1], need);
   }
   long longest = 0;
@@ -172,7 +170,7 @@ CutSchedule schedule_cut(const SlabCost& cost, const std::vector<int>& first, in
 // most room), so the search is exact, not greedy.
 std::vector<int> cut_within(const SlabCost& cost, int np, const SweepCoreShape& shape, long target) {
   // Per start f: the last end g with the slab [f, g) within the target and the slab depth
-  // (f itself if none), and whether a slab may start at f at all.
+  // (f itself if none).
   std::vector<int> last_end(np, 0);
   for (int f = 0; f < np; ++f) {
     const long cross = f == 0 ? 0 : cost.cross_slots(f);
@@ -310,13 +308,14 @@ SweepImage make_sweep_image(const Model& model_in, const State& state, double dt
   // The fewest clocks per step: the lowest lane-load bound any cut meets, then the cuts of
   // slightly higher bounds too (their start delays differ), each scheduled as the core runs it.
   const SlabCost cost(topo);
-  long lo = 1, hi = cost.own_slots(0, np) + cost.cross_slots(np) + 1;
-  for (int f = 0; f < np; ++f) hi = std::max(hi, cost.cross_slots(f) + cost.own_slots(f, np) + 1);
+  // No slab's load exceeds its start's cross slots plus the own slots of everything above.
+  long lo = 1, hi = 1;
+  for (int f = 0; f < np; ++f) hi = std::max(hi, cost.cross_slots(f) + cost.own_slots(f, np));
   if (cut_within(cost, np, shape, hi).empty()) {
     throw Error("sweep core: the model's slabs cannot be cut for " + std::to_string(shape.lanes) +
                 " lanes: " + why_no_cut(cost, np, shape) +
-                " (each lane's slab must be at least as thick as the edges' reach; use fewer "
-                "lanes or deeper slabs)");
+                " (each lane's slab must hold the ghosts of the slab above it; use fewer lanes "
+                "or deeper slabs)");
   }
   while (lo < hi) {
     const long mid = lo + (hi - lo) / 2;
