@@ -1,6 +1,9 @@
 // Shared by the cosimulation tests of the edge's optional parts (arm_cosim_test.cpp,
-// damper_cosim_test.cpp, hardening_cosim_test.cpp, every_effect_cosim_test.cpp): the run
-// and what each must show, how much a part changes the plate force, and the printed figures.
+// damper_cosim_test.cpp, hardening_cosim_test.cpp, every_effect_cosim_test.cpp,
+// volume_cosim_test.cpp, whole_protocol_cosim_test.cpp): the run and what each must show, how
+// much a part changes the plate force, the printed figures, and the every-effect and
+// every-feature checks that run over a time-compressed protocol by default and over the whole
+// protocol under the opt-in label `long`.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -9,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "host/cosim/cosim.hpp"
 #include "host/driver/core_image.hpp"
@@ -76,6 +80,80 @@ inline void report(const char* label, const char* part, const cosim::CosimResult
       r.cycles_per_step_measured, r.cycles_per_step_formula);
   ::testing::Test::RecordProperty("max_pos_err_rel", std::to_string(r.max_pos_err_rel));
   ::testing::Test::RecordProperty("max_force_err_rel", std::to_string(r.max_force_err_rel));
+}
+
+// Fixed point against the double reference: the every-effect and every-feature bounds.
+constexpr double kEveryMaxPositionErrorRel = 2e-5;
+constexpr double kEveryMaxForceErrorRel = 5e-4;
+// Each part must matter: without it the double model's force differs from the fixed-point
+// force by far more than the quantisation bound.
+constexpr double kEveryMinEffectRel = 0.02;
+
+// The whole shipped protocol runs 10,000 steps on a one-lane core, minutes of Verilator time.
+// Every protocol knot and the run length divided by `factor` keeps every phase (push, hold,
+// release, rest) at a `factor` times faster plate: the default suite runs that, the whole
+// protocol runs under the opt-in label `long` (whole_protocol_cosim_test.cpp).
+inline Scenario time_compressed(Scenario s, double factor) {
+  for (double& t : s.protocol.t) t /= factor;
+  s.duration_s /= factor;
+  return s;
+}
+
+inline long protocol_steps(const Scenario& s) {
+  const double duration = s.duration_s > 0.0 ? s.duration_s : s.protocol.duration();
+  return std::lround(duration / s.options.dt);
+}
+
+// block5 with the series damper, strain hardening and the eight-arm spectrum
+// (data/scenarios/block5_every_edge_effect.json) over all of `scenario`'s protocol: bit-exact
+// on the every-effect core, its longer drain in the cycle count, and each effect changing the
+// plate force by more than kEveryMinEffectRel of its peak.
+inline void expect_every_edge_effect(const Scenario& scenario) {
+  const Model model = scenario.build_model();
+  ASSERT_EQ(scenario.block.material.spectrum_arms, 8);
+  ASSERT_TRUE(scenario.block.material.nonlinear);
+  ASSERT_GT(scenario.block.material.hardening, 0.0);
+  EXPECT_EQ(driver::edge_element_for(model), hls::kThreeElementEveryEffect);
+
+  const cosim::CosimResult r = expect_exact_feature_cosim(
+      scenario, hls::kThreeElementEveryEffect, protocol_steps(scenario),
+      kEveryMaxPositionErrorRel, kEveryMaxForceErrorRel);
+  EXPECT_EQ(r.cycles_per_step_formula,
+            driver::cycles_per_step_formula(r.edge_rows, r.particles, 1) + hls::kHardDamperTemExtra);
+
+  struct Without {
+    const char* effect;
+    void (*remove)(EdgeMaterial&);
+  };
+  const std::vector<Without> parts = {
+      {"damper", [](EdgeMaterial& m) { m.nonlinear = false; }},
+      {"hardening", [](EdgeMaterial& m) { m.hardening = 0.0; }},
+      {"spectrum", [](EdgeMaterial& m) { m.spectrum_arms = 0; }},
+  };
+  for (const Without& w : parts) {
+    Model without = model;
+    for (EdgeMaterial& m : without.materials) w.remove(m);
+    const ForceEffect e = force_effect(scenario, without, r);
+    EXPECT_GE(e.max_diff_N, kEveryMinEffectRel * e.peak_N) << w.effect;
+    report("every effect", w.effect, r, e);
+  }
+}
+
+// block5_every_edge_effect with volume forces as well (data/scenarios/block5_every_feature.json):
+// bit-exact on the every-feature core, and the volume forces changing the plate force by more
+// than kEveryMinEffectRel of its peak.
+inline void expect_every_feature(const Scenario& scenario) {
+  const Model model = scenario.build_model();
+  ASSERT_TRUE(model.volume.enabled);
+  EXPECT_EQ(driver::edge_element_for(model), hls::kEveryFeature);
+  const cosim::CosimResult r =
+      expect_exact_feature_cosim(scenario, hls::kEveryFeature, protocol_steps(scenario),
+                                 kEveryMaxPositionErrorRel, kEveryMaxForceErrorRel);
+  Model without = model;
+  without.volume.enabled = false;
+  const ForceEffect e = force_effect(scenario, without, r);
+  EXPECT_GE(e.max_diff_N, kEveryMinEffectRel * e.peak_N);
+  report("every feature", "volume", r, e);
 }
 
 }  // namespace rheo::cosim_test

@@ -1,8 +1,9 @@
 // Bit-exact cosimulation of the RTL cores with volume elements (VolumePreservation = 1)
 // against the bit-true model: the baseline edge with volume forces at one and two lanes (the
 // element schedule across lanes), a 2-D block with area forces (triangles) likewise, and
-// every feature the core has at once over the whole
-// block5 protocol (10,000 steps) on the shipped scenario data/scenarios/block5_every_feature.json.
+// every feature the core has at once on the shipped scenario
+// data/scenarios/block5_every_feature.json, its protocol four times faster (2,500 steps, every
+// phase kept; the whole protocol is whole_protocol_cosim_test.cpp under the label `long`).
 // Each shows that the volume forces change the plate force by far more than the fixed-point
 // error, so they could not be silently missing.
 #include <gtest/gtest.h>
@@ -20,9 +21,9 @@ namespace {
 using cosim::CosimResult;
 
 // Fixed point against the double reference: the every-effect test's bounds.
-constexpr double kMaxPositionErrorRel = 2e-5;
-constexpr double kMaxForceErrorRel = 5e-4;
-constexpr double kMinEffectRel = 0.02;
+constexpr double kMaxPositionErrorRel = cosim_test::kEveryMaxPositionErrorRel;
+constexpr double kMaxForceErrorRel = cosim_test::kEveryMaxForceErrorRel;
+constexpr double kMinEffectRel = cosim_test::kEveryMinEffectRel;
 
 Scenario volume_block4() {
   Scenario s = load_scenario("block5");
@@ -76,19 +77,11 @@ TEST(VolumeCosim, A2DBlockWithAreaForcesIsBitExactAtOneAndTwoLanes) {
   expect_exact_at_one_and_two_lanes(area_block5(), "area");
 }
 
-TEST(EveryFeatureCosim, Block5WithEveryFeatureIsBitExactOverTheWholeProtocol) {
-  const Scenario scenario = load_scenario(std::string(RHEO_SOURCE_DIR) +
-                                          "/data/scenarios/block5_every_feature.json");
-  const Model model = scenario.build_model();
-  ASSERT_TRUE(model.volume.enabled);
-  EXPECT_EQ(edge_element_for(model), hls::kEveryFeature);
-  const CosimResult r = cosim_test::expect_exact_feature_cosim(
-      scenario, hls::kEveryFeature, 10000, kMaxPositionErrorRel, kMaxForceErrorRel);
-  Model without = model;
-  without.volume.enabled = false;
-  const cosim_test::ForceEffect e = cosim_test::force_effect(scenario, without, r);
-  EXPECT_GE(e.max_diff_N, kMinEffectRel * e.peak_N);
-  cosim_test::report("every feature", "volume", r, e);
+TEST(EveryFeatureCosim, Block5WithEveryFeatureIsBitExactOverATimeCompressedProtocol) {
+  const Scenario scenario = cosim_test::time_compressed(
+      load_scenario(std::string(RHEO_SOURCE_DIR) + "/data/scenarios/block5_every_feature.json"), 4.0);
+  ASSERT_EQ(cosim_test::protocol_steps(scenario), 2500);
+  cosim_test::expect_every_feature(scenario);
 }
 
 }  // namespace
