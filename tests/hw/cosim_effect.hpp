@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <vector>
 
 #include "host/cosim/cosim.hpp"
 #include "host/driver/core_image.hpp"
@@ -99,11 +98,6 @@ inline Scenario time_compressed(Scenario s, double factor) {
   return s;
 }
 
-inline long protocol_steps(const Scenario& s) {
-  const double duration = s.duration_s > 0.0 ? s.duration_s : s.protocol.duration();
-  return std::lround(duration / s.options.dt);
-}
-
 // block5 with the series damper, strain hardening and the eight-arm spectrum
 // (data/scenarios/block5_every_edge_effect.json) over all of `scenario`'s protocol: bit-exact
 // on the every-effect core, its longer drain in the cycle count, and each effect changing the
@@ -116,7 +110,7 @@ inline void expect_every_edge_effect(const Scenario& scenario) {
   EXPECT_EQ(driver::edge_element_for(model), hls::kThreeElementEveryEffect);
 
   const cosim::CosimResult r = expect_exact_feature_cosim(
-      scenario, hls::kThreeElementEveryEffect, protocol_steps(scenario),
+      scenario, hls::kThreeElementEveryEffect, scenario.default_steps(),
       kEveryMaxPositionErrorRel, kEveryMaxForceErrorRel);
   EXPECT_EQ(r.cycles_per_step_formula,
             driver::cycles_per_step_formula(r.edge_rows, r.particles, 1) + hls::kHardDamperTemExtra);
@@ -125,7 +119,7 @@ inline void expect_every_edge_effect(const Scenario& scenario) {
     const char* effect;
     void (*remove)(EdgeMaterial&);
   };
-  const std::vector<Without> parts = {
+  const Without parts[] = {
       {"damper", [](EdgeMaterial& m) { m.nonlinear = false; }},
       {"hardening", [](EdgeMaterial& m) { m.hardening = 0.0; }},
       {"spectrum", [](EdgeMaterial& m) { m.spectrum_arms = 0; }},
@@ -147,7 +141,7 @@ inline void expect_every_feature(const Scenario& scenario) {
   ASSERT_TRUE(model.volume.enabled);
   EXPECT_EQ(driver::edge_element_for(model), hls::kEveryFeature);
   const cosim::CosimResult r =
-      expect_exact_feature_cosim(scenario, hls::kEveryFeature, protocol_steps(scenario),
+      expect_exact_feature_cosim(scenario, hls::kEveryFeature, scenario.default_steps(),
                                  kEveryMaxPositionErrorRel, kEveryMaxForceErrorRel);
   Model without = model;
   without.volume.enabled = false;

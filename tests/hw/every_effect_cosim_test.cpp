@@ -20,7 +20,7 @@ TEST(EveryEffectCosim, Block5WithEveryEdgeEffectIsBitExactOverATimeCompressedPro
   const Scenario scenario = cosim_test::time_compressed(
       load_scenario(std::string(RHEO_SOURCE_DIR) + "/data/scenarios/block5_every_edge_effect.json"),
       4.0);
-  ASSERT_EQ(cosim_test::protocol_steps(scenario), 2500);
+  ASSERT_EQ(scenario.default_steps(), 2500);
   cosim_test::expect_every_edge_effect(scenario);
 }
 

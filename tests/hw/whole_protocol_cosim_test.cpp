@@ -18,13 +18,13 @@ Scenario shipped(const char* name) {
 
 TEST(WholeProtocolCosim, Block5WithEveryEdgeEffectIsBitExactOverTheWholeProtocol) {
   const Scenario scenario = shipped("block5_every_edge_effect.json");
-  ASSERT_EQ(cosim_test::protocol_steps(scenario), 10000);
+  ASSERT_EQ(scenario.default_steps(), 10000);
   cosim_test::expect_every_edge_effect(scenario);
 }
 
 TEST(WholeProtocolCosim, Block5WithEveryFeatureIsBitExactOverTheWholeProtocol) {
   const Scenario scenario = shipped("block5_every_feature.json");
-  ASSERT_EQ(cosim_test::protocol_steps(scenario), 10000);
+  ASSERT_EQ(scenario.default_steps(), 10000);
   cosim_test::expect_every_feature(scenario);
 }
 
