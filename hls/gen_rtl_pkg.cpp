@@ -198,6 +198,7 @@ int main() {
   param("SweepCrossMinSlots", h::kSweepCrossMinSlots, "slots of a ghost particle at least");
   param("SweepOwnMinSlots", h::kSweepOwnMinSlots, "slots of an own particle at least");
   param("SweepLeadClocks", h::kSweepLeadClocks, "plate word to a lane's first slot");
+  param("SweepSramClocks", h::kSweepSramClocks, "a slot's SRAM word: command to the lane's register");
   param("SweepPlateTreeLevels", h::kSweepPlateTreeLevels, "registered levels of the lanes' plate sum");
   param("TemLateCoefClocks", h::kTemLateCoefClocks,
         "rheo_tem with LateCoef: coefficients this many clocks after the edge");

@@ -9,8 +9,9 @@
 //   - topology is implicit: an edge's end is its start plus one of kSweepOffsets index
 //     offsets, and a particle's out-mask says which offsets start an edge there;
 //   - the Voigt length d of every edge streams through board SRAM (two ZBT devices per
-//     lane, one read and one written each step) with a tag: the edge's class ((L, material)
-//     from a table) and whether it is the first edge into its end this step;
+//     lane, a word per slot of the lane's stream, even slots in one device and odd in the
+//     other) with a tag: the edge's class ((L, material) from a table) and whether it is
+//     the first edge into its end this step;
 //   - particle i's MPM runs as soon as the sweep has passed it (force sums of its end side
 //     in a window of kSweepWindow particles); the step ends one pipeline after its last edge.
 #pragma once
@@ -22,9 +23,9 @@
 namespace rheo::hls {
 
 // Lanes of a sweep core, and the bits of a sweep slot index (region SweepEdge and
-// EdgeLength): lane << kSweepSlotLaneShift | n, n = the edge's place in its lane's stream.
+// EdgeLength): lane << kSweepSlotLaneShift | n, n = the edge's slot in its lane's stream.
 inline constexpr int kSweepMaxLanes = 8;
-inline constexpr int kSweepSlotLaneShift = 17;
+inline constexpr int kSweepSlotLaneShift = 18;
 // Board SRAM: IDT71V3556 (128K x 36 ZBT, pipelined outputs). Its read data follows the
 // address by kZbtLatency clocks, and so does the write data, so a device reads or writes
 // in every clock with no dead cycle between them.
@@ -32,6 +33,12 @@ inline constexpr int kZbtAddrBits = 17;
 inline constexpr int kZbtDepth = 1 << kZbtAddrBits;
 inline constexpr int kZbtWordBits = 36;
 inline constexpr int kZbtLatency = 2;
+// A lane's SRAM words: one per slot of its stream (padding slots hold no edge), slot n in
+// device n % 2 at address n / 2. A slot's word is written back a fixed odd number of clocks
+// after it is read (rtl/rheo_sweep_lane.sv), so a read and a write never meet in a device,
+// and the word is updated in place.
+inline constexpr int kSweepSramWords = 2 * kZbtDepth;
+static_assert(kSweepSramWords <= (1 << kSweepSlotLaneShift), "a slot index holds every word");
 // The 36-bit word of an edge in SRAM: d [31:0], class [34:32], first-into-end [35].
 inline constexpr int kSweepClassBits = 3;
 inline constexpr int kSweepEdgeClasses = 1 << kSweepClassBits;

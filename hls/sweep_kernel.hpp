@@ -114,7 +114,7 @@ struct SweepMemory {
   std::int64_t ghost_p[kSweepMaxLanes][kSweepGhostDepth][3] = {};
   std::int64_t ghost_sum[kSweepMaxLanes][kSweepGhostDepth][3] = {};
   std::int64_t window[kSweepMaxLanes][kSweepWindow][3] = {};
-  std::uint64_t sram[kSweepMaxLanes][2][kZbtDepth] = {};
+  std::uint64_t sram[kSweepMaxLanes][kSweepSramWords] = {};  // by slot (sweep_format.hpp)
   // Tables.
   MaterialCoefs materials[kMaxMaterials];
   std::int64_t class_len[kSweepEdgeClasses] = {};
@@ -124,7 +124,6 @@ struct SweepMemory {
   SweepLaneRegs lane[kSweepMaxLanes];
   std::uint32_t lanes = 1;          // lanes of the core
   std::uint32_t num_particles = 0;  // for the host's range checks
-  std::uint32_t sram_read = 0;      // the device each lane reads this step (0 or 1)
   MpmGlobals globals;
   std::uint32_t status = 0;
   std::uint32_t step_count = 0;
@@ -154,14 +153,13 @@ inline std::uint32_t sweep_cross_reach(const SweepMemory& m, std::uint32_t dist)
 
 namespace detail {
 
-// One edge of lane j: start (xs, ps), end at slab index e, SRAM word n. Adds the start
-// force to *start_sum and the end force into the window.
+// One edge of lane j: start (xs, ps), end at slab index e, SRAM word n (its slot). Adds the
+// start force to *start_sum and the end force into the window.
 template <class Fmt>
 inline void sweep_edge(SweepMemory& m, std::uint32_t j, const std::int64_t* xs,
                        const std::int64_t* ps, std::uint32_t e_local, std::uint32_t n,
                        std::int64_t start_sum[3]) {
-  const std::uint32_t rd = m.sram_read, wr = 1u - m.sram_read;
-  const SweepEdgeWord w = SweepEdgeWord::unpack(m.sram[j][rd][n]);
+  const SweepEdgeWord w = SweepEdgeWord::unpack(m.sram[j][n]);
   const std::uint32_t e = m.lane[j].first + e_local;
   TemIn in;
   for (int i = 0; i < 3; ++i) {
@@ -176,7 +174,7 @@ inline void sweep_edge(SweepMemory& m, std::uint32_t j, const std::int64_t* xs,
       tem_edge<Fmt>(in, m.materials[m.class_material[w.cls] & (kMaxMaterials - 1)], &m.status);
   SweepEdgeWord nw = w;
   nw.d = out.d;
-  m.sram[j][wr][n] = nw.pack();
+  m.sram[j][n] = nw.pack();
   std::int64_t* sum = m.window[j][e_local % kSweepWindow];
   for (int i = 0; i < 3; ++i) {
     start_sum[i] = sweep_sum_wrap(start_sum[i] + out.f[i]);
@@ -193,7 +191,7 @@ template <class Fmt>
 inline std::int64_t sweep_step(SweepMemory& m) {
   constexpr int W = Fmt::kWidth;
   const std::uint32_t lanes = m.lanes > std::uint32_t(kSweepMaxLanes) ? kSweepMaxLanes : m.lanes;
-  std::uint32_t n_next[kSweepMaxLanes] = {};  // each lane's SRAM word counter
+  std::uint32_t n_next[kSweepMaxLanes] = {};  // each lane's slot counter: its SRAM word
   for (std::uint32_t j = 0; j < lanes; ++j) {
     const SweepLaneRegs& l = m.lane[j];
     if (l.count > std::uint32_t(kSweepSlabDepth) || l.ghost > std::uint32_t(kSweepGhostDepth) ||
@@ -215,15 +213,18 @@ cross_sweep:
       const std::uint32_t dist = l.ghost - a;  // g + dist = first
       std::uint32_t mask = SweepStatic::unpack(m.stat[g]).out_mask & sweep_cross_reach(m, dist);
       std::int64_t sum[3] = {0, 0, 0};
+      std::uint32_t slots = 0;
       for (int k = 0; k < kSweepOffsets; ++k) {
         if (!(mask & (1u << k))) continue;
         const std::uint32_t e_local = m.offset[k] - dist;
-        if (e_local >= l.count || n_next[j] >= std::uint32_t(kZbtDepth)) {
+        if (e_local >= l.count || n_next[j] + slots >= std::uint32_t(kSweepSramWords)) {
           m.status |= kStatusScheduleConflict;  // beyond the slab: two slabs away
           continue;
         }
-        detail::sweep_edge<Fmt>(m, j, m.ghost_x[j][a], m.ghost_p[j][a], e_local, n_next[j]++, sum);
+        detail::sweep_edge<Fmt>(m, j, m.ghost_x[j][a], m.ghost_p[j][a], e_local,
+                                n_next[j] + slots++, sum);
       }
+      n_next[j] += slots > std::uint32_t(kSweepCrossMinSlots) ? slots : kSweepCrossMinSlots;
       for (int i = 0; i < 3; ++i) m.ghost_sum[j][a][i] = sum[i];
     }
   }
@@ -256,14 +257,16 @@ own_sweep:
         ps[i] = m.p[s][i];
       }
       std::int64_t sum[3] = {0, 0, 0};
+      std::uint32_t slots = 0;
       for (int k = 0; k < kSweepOffsets; ++k) {
         if (!(mask & (1u << k))) continue;
-        if (n_next[j] >= std::uint32_t(kZbtDepth)) {
+        if (n_next[j] + slots >= std::uint32_t(kSweepSramWords)) {
           m.status |= kStatusScheduleConflict;
           continue;
         }
-        detail::sweep_edge<Fmt>(m, j, xs, ps, s_local + m.offset[k], n_next[j]++, sum);
+        detail::sweep_edge<Fmt>(m, j, xs, ps, s_local + m.offset[k], n_next[j] + slots++, sum);
       }
+      n_next[j] += slots > std::uint32_t(kSweepOwnMinSlots) ? slots : kSweepOwnMinSlots;
       // The particle's force: own start sum + end sums + the next lane's ghost sum.
       std::int64_t f[3];
       const std::int64_t* end = m.window[j][s_local % kSweepWindow];
@@ -294,7 +297,6 @@ own_sweep:
       }
     }
   }
-  m.sram_read = 1u - m.sram_read;
   ++m.step_count;
   return saturate(plate_acc, W, &m.status, kStatusPlateSaturated);
 }

@@ -142,7 +142,7 @@ package rheo_consts_pkg;
   localparam int SweepLaneDelay = 3;  // lane entry: start delay
   localparam int StatusLanesSweep = 256;  // status word 3: the sweep core
   localparam int SweepMaxLanes = 8;  // sweep core: lanes at most
-  localparam int SweepSlotLaneShift = 17;  // sweep slot index: lane << shift | n
+  localparam int SweepSlotLaneShift = 18;  // sweep slot index: lane << shift | n
   localparam int ZbtAddrBits = 17;  // board SRAM: address bits (IDT71V3556)
   localparam int ZbtWordBits = 36;  // board SRAM: word bits
   localparam int ZbtLatency = 2;  // board SRAM: clocks from address to data, both ways
@@ -161,6 +161,7 @@ package rheo_consts_pkg;
   localparam int SweepCrossMinSlots = 1;  // slots of a ghost particle at least
   localparam int SweepOwnMinSlots = 2;  // slots of an own particle at least
   localparam int SweepLeadClocks = 5;  // plate word to a lane's first slot
+  localparam int SweepSramClocks = 4;  // a slot's SRAM word: command to the lane's register
   localparam int SweepPlateTreeLevels = 3;  // registered levels of the lanes' plate sum
   localparam int TemLateCoefClocks = 29;  // rheo_tem with LateCoef: coefficients this many clocks after the edge
   localparam int SweepDrainCycles = 67;  // cycles per step beyond the slowest lane

@@ -77,7 +77,7 @@ module rheo_sweep_core #(
   end
 
   // ---------------------------------------------------------------- controller
-  logic host_we, xp_we, stat_we, ghost_we, zbt_valid, zbt_we, idle, go, cur_dev;
+  logic host_we, xp_we, stat_we, ghost_we, zbt_valid, zbt_we, idle, go;
   logic [RegionW-1:0] region;
   logic [FieldW-1:0] field;
   logic [IdxCountW-1:0] index;
@@ -86,7 +86,7 @@ module rheo_sweep_core #(
   logic [SAW-1:0] local_addr;
   logic [XpW-1:0] xp_wdata;
   logic [GAW-1:0] ghost_addr;
-  logic [NW-1:0] zbt_addr;
+  logic [NW:0] zbt_addr;  // a slot's word: device (bit 0) and address
   logic [DW-1:0] zbt_wdata;
   logic [Lanes-1:0] done;
   logic [Lanes*(SAW+1)-1:0] count;
@@ -108,7 +108,7 @@ module rheo_sweep_core #(
     .lane_o(lane_sel), .local_o(local_addr), .xp_we_o(xp_we), .stat_we_o(stat_we),
     .xp_wdata_o(xp_wdata), .ghost_we_o(ghost_we), .ghost_addr_o(ghost_addr),
     .zbt_valid_o(zbt_valid), .zbt_we_o(zbt_we), .zbt_addr_o(zbt_addr), .zbt_wdata_o(zbt_wdata),
-    .read_word_i(read_word), .idle_o(idle), .go_o(go), .cur_dev_o(cur_dev), .done_i(done),
+    .read_word_i(read_word), .idle_o(idle), .go_o(go), .done_i(done),
     .count_o(count), .ghost_o(ghost), .delay_o(delay), .gravity_o(gravity),
     .floor_en_o(floor_en), .plate_en_o(plate_en), .plate_z_o(plate_z), .hold_en_o(hold_en),
     .plate_prev_o(plate_prev), .lane_flags_i(lane_flags), .plate_acc_i(plate_acc));
@@ -169,7 +169,7 @@ module rheo_sweep_core #(
       .W(W), .CoefW(CoefW), .SlabDepth(SlabDepth), .GhostDepth(GhostDepth), .Window(Window),
       .HasGhost(Below ? 1 : 0), .DelayW(DelayW)
     ) u_lane (
-      .clk_i(clk_i), .rst_ni(rst_ni), .go_i(go), .idle_i(idle), .cur_dev_i(cur_dev),
+      .clk_i(clk_i), .rst_ni(rst_ni), .go_i(go), .idle_i(idle),
       .done_o(done[j]),
       .count_i(count[j*(SAW+1) +: SAW+1]), .ghost_i(ghost[j*(GAW+1) +: GAW+1]),
       .delay_i(delay[j*DelayW +: DelayW]),

@@ -60,13 +60,12 @@ module rheo_sweep_ctrl #(
   output logic [GAW-1:0]         ghost_addr_o,
   output logic                   zbt_valid_o,    // an SRAM command of the host
   output logic                   zbt_we_o,
-  output logic [NW-1:0]          zbt_addr_o,
+  output logic [NW:0]            zbt_addr_o,     // the slot: its device (bit 0), address
   output logic [DW-1:0]          zbt_wdata_o,
   input  logic [W-1:0]           read_word_i,    // the entry's word (read-back mux)
   // Step.
   output logic                   idle_o,
   output logic                   go_o,
-  output logic                   cur_dev_o,
   input  logic [Lanes-1:0]       done_i,
   output logic [Lanes*(SAW+1)-1:0] count_o,
   output logic [Lanes*(GAW+1)-1:0] ghost_o,
@@ -115,7 +114,6 @@ module rheo_sweep_ctrl #(
   logic [W-1:0] plate_z_q, plate_z_d;
   logic plate_hold_en_q, plate_hold_en_d, plate_prev_valid_q, plate_prev_valid_d;
   logic [W-1:0] plate_prev_q, plate_prev_d;
-  logic cur_dev_q, cur_dev_d;
   logic [31:0] status_q, status_d, step_count_q, step_count_d, cycle_count_q, cycle_count_d;
 
   logic [OpW-1:0] hdr_opcode;
@@ -246,10 +244,9 @@ module rheo_sweep_ctrl #(
   assign zbt_valid_o = (data_word && region_q == RegionW'(rheo_consts_pkg::RegionSweepEdge)) ||
                        (state_q == StRFetch && slot_region && wait_q == WaitW'(FetchWait));
   assign zbt_we_o = state_q == StWData;
-  assign zbt_addr_o = index_q[NW-1:0];
+  assign zbt_addr_o = index_q[NW:0];
   assign zbt_wdata_o = {s_axis_tdata[rheo_consts_pkg::SweepClassBits:0], xp_buf_q[W-1:0]};
   assign go_o = (state_q == StRunPlate) && in_fire;
-  assign cur_dev_o = cur_dev_q;
   for (genvar j = 0; j < Lanes; j++) begin : g_lane_regs
     assign count_o[j*(SAW+1) +: SAW+1] = lcount_q[j];
     assign ghost_o[j*(GAW+1) +: GAW+1] = lghost_q[j];
@@ -345,7 +342,6 @@ module rheo_sweep_ctrl #(
     plate_hold_en_d = plate_hold_en_q;
     plate_prev_valid_d = plate_prev_valid_q;
     plate_prev_d = plate_prev_q;
-    cur_dev_d = cur_dev_q;
     step_count_d = step_count_q;
     status_d = status_q | lane_flags_i;
     cycle_count_d = (busy_o || go_o) ? cycle_count_q + 32'd1 : cycle_count_q;
@@ -560,7 +556,6 @@ module rheo_sweep_ctrl #(
           out_valid_d = 1'b1;
           out_last_d = (count_q == IdxCountW'(1));
           step_count_d = step_count_q + 32'd1;
-          cur_dev_d = !cur_dev_q;
           state_d = StForceOut;
         end
       end
@@ -611,7 +606,6 @@ module rheo_sweep_ctrl #(
       plate_hold_en_q <= 1'b0;
       plate_prev_valid_q <= 1'b0;
       plate_prev_q <= '0;
-      cur_dev_q <= 1'b0;
       status_q <= '0;
       step_count_q <= '0;
       cycle_count_q <= '0;
@@ -649,7 +643,6 @@ module rheo_sweep_ctrl #(
       plate_hold_en_q <= plate_hold_en_d;
       plate_prev_valid_q <= plate_prev_valid_d;
       plate_prev_q <= plate_prev_d;
-      cur_dev_q <= cur_dev_d;
       status_q <= status_d;
       step_count_q <= step_count_d;
       cycle_count_q <= cycle_count_d;

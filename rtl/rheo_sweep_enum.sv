@@ -8,8 +8,9 @@
 //     s + o_k < count, at least SweepOwnMinSlots slots (the slot that reads the particle
 //     and the one that writes its MPM result share a memory port);
 //   - within a particle, its offsets in increasing k; a slot without an edge is padding.
-// A slot carries the particle, the offset, the edge's SRAM word number n (edges only) and
-// whether it is the particle's first and last slot. Nothing depends on the data, so a lane
+// A slot carries the particle, the offset, its number n in the stream (its SRAM word:
+// device n % 2, address n / 2; hls/sweep_format.hpp) and whether it is the particle's first
+// and last slot. Nothing depends on the data, so a lane
 // takes max(1, cross edges) per ghost particle and max(2, own edges) per own particle.
 //
 // Timing: go_i in clock 0 (the plate word is taken); the static words are read from
@@ -53,7 +54,7 @@ module rheo_sweep_enum #(
   output logic                    cross_o,      // a ghost particle's slot
   output logic [SAW-1:0]          idx_o,        // ghost address or own local index
   output logic [KW-1:0]           k_o,          // the edge's offset
-  output logic [NW-1:0]           n_o,          // the edge's SRAM word
+  output logic [NW:0]             n_o,          // the slot's number: its SRAM word
   output logic [MassW-1:0]        mass_o,       // own particle: mass class
   output logic                    fixed_o,
   output logic                    plate_o,
@@ -153,7 +154,7 @@ module rheo_sweep_enum #(
   logic [EntryW-1:0] cur_e_q;
   logic [Offsets-1:0] cur_mask_q;
   logic [CntW-1:0] cur_cnt_q;
-  logic [NW-1:0] n_q;
+  logic [NW:0] n_q;
   logic [DelayW+1:0] wait_q;
   logic waiting_q, running_q;
   logic [EntryW-1:0] head, e;
@@ -295,7 +296,7 @@ module rheo_sweep_enum #(
       has_in_o <= e[EHasIn];
       has_cross_o <= e[EHasCross];
       if (slot) begin
-        if (rem != '0) n_q <= n_q + 1'b1;
+        n_q <= n_q + 1'b1;
         cur_rem_q <= rem - NeW'(rem != '0);
         cur_q <= !last;
         if (take) cur_e_q <= head;

@@ -2,7 +2,8 @@
 // particles, its stream of edges (rheo_sweep_enum), a TEM, the force sums and an MPM that
 // runs beside the sweep. Clock by clock, for a slot in the slot registers in clock E
 // (edges and padding alike; every slot takes the same path):
-//   E      the edge's SRAM word is read (device cur_dev_i; rheo_zbt_port: word at E+4)
+//   E      the edge's SRAM word is read (the slot's word: device n % 2, address n / 2;
+//          rheo_zbt_port: word at E+4)
 //   E+1    the offset o_k; E+2 the end's local index e = s + o_k (own) or o_k - (ghost - a)
 //          (cross)
 //   E+3    memory addresses: the end particle (x/p port A); a particle's first slot also
@@ -12,7 +13,8 @@
 //   E+5    the TEM's input: operands, d, and L from the class table; the class's material
 //          index waits TemLateCoefClocks - 1 clocks, so that the material table's
 //          coefficients reach the TEM when its products need them (rheo_tem LateCoef)
-//   E+45   the TEM's force f and new d (TemLatency later): d goes to the written device;
+//   E+45   the TEM's force f and new d (TemLatency later): d goes back to the slot's word
+//          (an odd number of clocks after its read, so it never meets a read in a device);
 //          f is added to the particle's start sum (a register, cleared at its first slot)
 //          and -f to the end's sum (rheo_sweep_end_sums, started afresh by a first edge)
 //   E+46   a particle's last slot: its start sum is complete. Cross: written to the ghost
@@ -59,7 +61,6 @@ module rheo_sweep_lane #(
   input  logic                    rst_ni,
   input  logic                    go_i,         // a step starts (its plate word is taken)
   input  logic                    idle_i,       // no step runs: the host owns the memories
-  input  logic                    cur_dev_i,    // the SRAM device read this step
   output logic                    done_o,       // every own particle of the step written
   input  logic [SAW:0]            count_i,
   input  logic [GAW:0]            ghost_i,
@@ -121,7 +122,7 @@ module rheo_sweep_lane #(
   output logic [StatW-1:0]        host_stat_rdata_o,
   input  logic                    host_zbt_valid_i,
   input  logic                    host_zbt_we_i,
-  input  logic [NW-1:0]           host_zbt_addr_i,
+  input  logic [NW:0]             host_zbt_addr_i,  // a slot: device (bit 0), address
   input  logic [DW-1:0]           host_zbt_wdata_i,
   output logic [DW-1:0]           host_zbt_rdata_o,
   // The two SRAM devices: {device 1, device 0}.
@@ -148,7 +149,7 @@ module rheo_sweep_lane #(
   logic s_slot, s_edge, s_first, s_last, s_cross, s_fixed, s_plate, s_has_in, s_has_cross;
   logic [SAW-1:0] s_idx;
   logic [KW-1:0] s_k;
-  logic [NW-1:0] s_n;
+  logic [NW:0] s_n;
   logic [MassW-1:0] s_mass;
   logic starved;
   logic [SAW-1:0] own_stat_addr;
@@ -166,7 +167,7 @@ module rheo_sweep_lane #(
   // A slot's fields, carried along: {has_cross, has_in, plate, fixed, mass, n, e, idx,
   // cross, last, first, edge, slot}.
   localparam int PSlot = 0, PEdge = 1, PFirst = 2, PLast = 3, PCross = 4, PIdx = 5;
-  localparam int PE = PIdx + SAW, PN = PE + SAW, PMass = PN + NW, PFixed = PMass + MassW;
+  localparam int PE = PIdx + SAW, PN = PE + SAW, PMass = PN + NW + 1, PFixed = PMass + MassW;
   localparam int PPlate = PFixed + 1, PHasIn = PPlate + 1, PHasCross = PHasIn + 1;
   localparam int PW = PHasCross + 1;
   // E+1 holds the slot's offset o_k (PE), E+2 its end's local index there.
@@ -191,7 +192,7 @@ module rheo_sweep_lane #(
       p1_q[PCross] <= s_cross;
       p1_q[PIdx +: SAW] <= s_idx;
       p1_q[PE +: SAW] <= SAW'(off_k);
-      p1_q[PN +: NW] <= s_n;
+      p1_q[PN +: NW+1] <= s_n;
       p1_q[PMass +: MassW] <= s_mass;
       p1_q[PFixed] <= s_fixed;
       p1_q[PPlate] <= s_plate;
@@ -270,33 +271,38 @@ module rheo_sweep_lane #(
   end
 
   // ---------------------------------------------------------------- SRAM
-  // This step's device is read by the stream, the other written by the TEM's results; the
-  // host reads and writes this step's device (the one the next step reads) while idle.
+  // A slot's word lives in device n % 2 at n / 2 and is written back in place kResult
+  // clocks after its read, an odd number: in any clock the slot read and the slot written
+  // differ by that many slots, so they use different devices. The host reads and writes
+  // any word while idle.
+  localparam int ReadToWrite = rheo_consts_pkg::SweepSramClocks + 1 + TemLat;
+  if (ReadToWrite % 2 != 1) begin : g_parity_check
+    $error("rheo_sweep_lane: a slot's write must follow its read by an odd number of clocks");
+  end
   logic rd_cmd, wr_cmd;
-  logic [NW-1:0] wr_addr;
+  logic [NW:0] wr_addr;
   logic [DW-1:0] wr_word;
   logic [DW-1:0] zbt_rdata [2];
   for (genvar b = 0; b < 2; b++) begin : g_zbt
-    logic reads, valid, we;
+    logic valid, we;
     logic [NW-1:0] addr;
     logic [DW-1:0] wdata;
-    assign reads = (cur_dev_i == 1'(b));
     always_comb begin
       if (idle_i) begin
-        valid = reads && host_zbt_valid_i;
+        valid = host_zbt_valid_i && host_zbt_addr_i[0] == 1'(b);
         we = host_zbt_we_i;
-        addr = host_zbt_addr_i;
+        addr = host_zbt_addr_i[NW:1];
         wdata = host_zbt_wdata_i;
-      end else if (reads) begin
-        valid = rd_cmd;
-        we = 1'b0;
-        addr = s_n;
-        wdata = '0;
-      end else begin
-        valid = wr_cmd;
+      end else if (wr_cmd && wr_addr[0] == 1'(b)) begin
+        valid = 1'b1;
         we = 1'b1;
-        addr = wr_addr;
+        addr = wr_addr[NW:1];
         wdata = wr_word;
+      end else begin
+        valid = rd_cmd && s_n[0] == 1'(b);
+        we = 1'b0;
+        addr = s_n[NW:1];
+        wdata = '0;
       end
     end
     rheo_zbt_port u_port (
@@ -306,8 +312,10 @@ module rheo_sweep_lane #(
       .zbt_d_o(zbt_d_o[b*DW +: DW]), .zbt_d_oe_o(zbt_d_oe_o[b]), .zbt_q_i(zbt_q_i[b*DW +: DW]));
   end
   assign rd_cmd = s_slot && s_edge;
+  // The word read four clocks ago: the slot's in E+4, the host's (its address held while
+  // it waits) when idle.
   logic [DW-1:0] word4;
-  assign word4 = zbt_rdata[cur_dev_i];
+  assign word4 = zbt_rdata[idle_i ? host_zbt_addr_i[0] : p4_q[PN]];
   assign host_zbt_rdata_o = word4;
 
   // ---------------------------------------------------------------- operands E+4..E+6
@@ -368,9 +376,9 @@ module rheo_sweep_lane #(
   assign {u_fin, u_cls, u_e, u_cross, u_last, u_first, u_edge_bit, u_slot} = u_out;
   logic u_edge;
   assign u_edge = u_slot && u_edge_bit;
-  // The written device's word number and the particle of the slot, counted at the output:
-  // edges and particles leave the TEM in the order they entered it.
-  logic [NW-1:0] wr_n_q;
+  // The slot's number (its SRAM word) and particle, counted at the output: slots leave the
+  // TEM in the order they entered it.
+  logic [NW:0] wr_n_q;
   logic [SAW-1:0] u_cross_idx_q, u_own_idx_q;
 
   // ---------------------------------------------------------------- E+45: results
@@ -423,12 +431,14 @@ module rheo_sweep_lane #(
 
   logic m2_q, m3_q, m4_q, m5_q;  // a particle's force sums, saturation, MPM input
   // The MPM queue: an own particle's static fields (LUT RAM, read in E+46) and its x and p
-  // (the ghost memory's upper part, read in E+49 for the MPM's input in E+50), from its
-  // first slot to its MPM. The x/p write waits a clock when the MPM's read has port A
-  // (both come at most every SweepOwnMinSlots clocks).
+  // (the ghost memory's upper part), from its first slot to its MPM. The x/p entries are
+  // read ahead into two head registers whenever port A has nothing else to do, and the MPM
+  // takes the first in E+50: the MPM's clock never needs the port, which a next step's ghost
+  // reads could hold (host/driver/sweep_overlap.cpp, docs/synthesis.md §8). An entry's
+  // write waits a clock when a ghost read has the port.
   localparam int SW = MassW + 4;
   (* ram_style = "distributed" *) logic [SW-1:0] qs_mem [QDepth];
-  logic [QAW-1:0] q_wr_q, qs_wr_q, qs_rd_q, qx_rd_q;
+  logic [QAW-1:0] q_wr_q, qs_wr_q, qs_rd_q, qx_rd_q;  // qx_rd_q: the next entry to read ahead
   logic [QAW:0] q_cnt_q;
   logic q_push, qx_pend_q;
   logic [XpW-1:0] qx_pend_data_q;
@@ -440,20 +450,37 @@ module rheo_sweep_lane #(
       qs_mem[qs_wr_q] <= {p4_q[PHasCross], p4_q[PHasIn], p4_q[PPlate], p4_q[PFixed],
                           p4_q[PMass +: MassW]};
   end
-  // Port A: a ghost read (cross sweep), else the MPM's read, else a waiting x/p write.
-  logic q_write;
+  // Port A: a ghost read (cross sweep), else a waiting x/p write, else a read ahead into
+  // the head registers when an entry is in memory and a register will be free.
+  logic q_write, q_fetch, fetch_q, q_take;
+  logic [1:0] h_cnt_q;              // head registers holding an entry
+  logic [XpW-1:0] h0_q, h1_q;
+  assign q_take = m5_q;             // the MPM's input takes the first head register
   always_comb begin
     q_write = 1'b0;
+    q_fetch = 1'b0;
     gq_wdata = qx_pend_data_q;
     if (ghost_rd) begin
       gq_addr = GQAW'(p3_q[PIdx +: SAW]);
-    end else if (m4_q) begin
-      gq_addr = GQAW'(QBase) + GQAW'(qx_rd_q);
-    end else begin
+    end else if (qx_pend_q) begin
       gq_addr = GQAW'(QBase) + GQAW'(q_wr_q);
-      q_write = qx_pend_q;
+      q_write = 1'b1;
+    end else begin
+      gq_addr = GQAW'(QBase) + GQAW'(qx_rd_q);
+      q_fetch = qx_rd_q != q_wr_q && 3'(h_cnt_q) + 3'(fetch_q) <= 3'd1 + 3'(q_take);
     end
     gq_we = q_write;
+  end
+  // The head registers: an entry read ahead arrives a clock after its read (fetch_q) and
+  // goes behind those the MPM has not taken.
+  logic [1:0] h_kept;
+  assign h_kept = h_cnt_q - 2'(q_take);
+  always_ff @(posedge clk_i) begin
+    if (q_take) h0_q <= h1_q;
+    if (fetch_q) begin
+      if (h_kept == 2'd0) h0_q <= ghost_xp;
+      else h1_q <= ghost_xp;
+    end
   end
   logic h_has_cross, h_has_in;
   assign mass_o = qs_head[0 +: MassW];
@@ -513,7 +540,7 @@ module rheo_sweep_lane #(
   logic [SAW-1:0] mpm_idx;
   logic [3*W-1:0] mpm_x, mpm_p;
   logic [XpW-1:0] qx_head;
-  assign qx_head = ghost_xp;  // read in E+49 (m4_q)
+  assign qx_head = h0_q;
   rheo_mpm #(.W(W), .CoefW(CoefW), .IdxW(SAW)) u_mpm (
     .clk_i(clk_i), .rst_ni(rst_ni), .valid_i(m5_q), .idx_i(m5_idx_q), .f_i(m5_f_q),
     .x_i(qx_head[0 +: 3*W]), .p_i(qx_head[3*W +: 3*W]), .x0_i(qx_head[0 +: 3*W]),
@@ -545,6 +572,8 @@ module rheo_sweep_lane #(
       qs_wr_q <= '0;
       qs_rd_q <= '0;
       qx_rd_q <= '0;
+      fetch_q <= 1'b0;
+      h_cnt_q <= '0;
       qx_pend_q <= 1'b0;
       qx_pend_data_q <= '0;
       q_cnt_q <= '0;
@@ -563,7 +592,9 @@ module rheo_sweep_lane #(
       m5_q <= m4_q;
       if (q_push) qs_wr_q <= qs_wr_q + 1'b1;
       if (own_end) qs_rd_q <= qs_rd_q + 1'b1;
-      if (m4_q) qx_rd_q <= qx_rd_q + 1'b1;
+      if (q_fetch) qx_rd_q <= qx_rd_q + 1'b1;
+      fetch_q <= q_fetch;
+      h_cnt_q <= h_kept + 2'(fetch_q);
       // The x/p entry waits in qx_pend until port A takes it.
       if (q_write) q_wr_q <= q_wr_q + 1'b1;
       if (q_push) begin
@@ -572,8 +603,8 @@ module rheo_sweep_lane #(
       end else if (q_write) begin
         qx_pend_q <= 1'b0;
       end
-      q_cnt_q <= q_cnt_q + (QAW+1)'(q_push) - (QAW+1)'(m4_q);
-      if (u_edge) wr_n_q <= wr_n_q + 1'b1;
+      q_cnt_q <= q_cnt_q + (QAW+1)'(q_push) - (QAW+1)'(q_take);
+      if (u_slot) wr_n_q <= wr_n_q + 1'b1;
       if (u_slot && u_last && u_cross) u_cross_idx_q <= u_cross_idx_q + 1'b1;
       if (u_slot && u_last && !u_cross) u_own_idx_q <= u_own_idx_q + 1'b1;
       // An MPM result waits in wb for port B (a start read has it in that clock).
@@ -640,13 +671,16 @@ module rheo_sweep_lane #(
     if (!rst_ni) begin
     end else begin
       assert (!(q_push && q_cnt_q == (QAW+1)'(QDepth))) else $error("rheo_sweep_lane: MPM queue overflow");
-      assert (!(m4_q && q_cnt_q == '0)) else $error("rheo_sweep_lane: MPM queue empty at a particle's MPM");
+      assert (!(q_take && h_cnt_q == '0))
+        else $error("rheo_sweep_lane: the MPM's queue entry not read ahead in time");
       assert (!(q_push && qx_pend_q && !q_write))
         else $error("rheo_sweep_lane: an x/p entry still waiting for port A");
-      assert (!(ghost_rd && (m4_q || qx_pend_q)))
-        else $error("rheo_sweep_lane: the queue in port A during the cross sweep");
+      assert (!(ghost_rd && qx_pend_q))
+        else $error("rheo_sweep_lane: a queue entry waiting for port A during the cross sweep");
       assert (!(mpm_valid && wb_q && start_rd)) else $error("rheo_sweep_lane: two MPM results for port B");
       assert (!starved) else $error("rheo_sweep_lane: the stream starved (prefetch behind)");
+      assert (idle_i || !(rd_cmd && wr_cmd && s_n[0] == wr_addr[0]))
+        else $error("rheo_sweep_lane: a slot's read and another's write in one SRAM device");
     end
   end
 `endif

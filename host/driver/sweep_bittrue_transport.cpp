@@ -114,7 +114,7 @@ void SweepBitTrueTransport::write_word(std::uint32_t region, std::uint32_t index
     }
     case frame::kRegionSweepEdge: {
       const std::uint32_t lane = index >> hls::kSweepSlotLaneShift;
-      const std::uint32_t n = index & (hls::kZbtDepth - 1);
+      const std::uint32_t n = index & (hls::kSweepSramWords - 1);
       if (field == 0) {
         d_word_ = w;
         return;
@@ -126,7 +126,7 @@ void SweepBitTrueTransport::write_word(std::uint32_t region, std::uint32_t index
       hls::SweepEdgeWord e;
       e.d = sword(d_word_);
       e.set_tag(w);
-      m.sram[lane][m.sram_read][n] = e.pack();
+      m.sram[lane][n] = e.pack();
       return;
     }
     case frame::kRegionSweepLane: {
@@ -193,7 +193,7 @@ std::uint32_t SweepBitTrueTransport::read_word(std::uint32_t region, std::uint32
       return 0;
     }
     const hls::SweepEdgeWord e =
-        hls::SweepEdgeWord::unpack(m.sram[lane][m.sram_read][index & (hls::kZbtDepth - 1)]);
+        hls::SweepEdgeWord::unpack(m.sram[lane][index & (hls::kSweepSramWords - 1)]);
     return field == 0 ? static_cast<std::uint32_t>(e.d) : e.tag();
   }
   if (region == frame::kRegionSweepLane) {

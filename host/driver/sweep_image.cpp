@@ -372,25 +372,39 @@ SweepImage make_sweep_image(const Model& model_in, const State& state, double dt
       img.edge_slot[k] = (std::uint32_t(j) << hls::kSweepSlotLaneShift) | std::uint32_t(l.stream.size());
       l.stream.push_back(w);
     };
-    // The slots between the edges (padding) are the schedule's (schedule_cut).
+    // A particle's slots: its edges, then padding up to the schedule's minimum
+    // (schedule_cut); a padding slot's word is never read.
+    auto pad = [&](std::size_t from, int min_slots) {
+      while (l.stream.size() < from + std::size_t(min_slots)) l.stream.push_back({});
+    };
     for (int g = l.first - l.ghost; g < l.first; ++g) {
+      const std::size_t from = l.stream.size();
       for (const auto& [bit, k] : out_edges[g]) {
         if (model.edges[k].e < l.first) continue;
         add(k);
         ++l.cross_edges;
       }
+      pad(from, hls::kSweepCrossMinSlots);
     }
     for (int s = l.first; s < end; ++s) {
+      const std::size_t from = l.stream.size();
       for (const auto& [bit, k] : out_edges[s]) {
         if (model.edges[k].e >= end) continue;
         add(k);
         ++l.own_edges;
       }
+      pad(from, hls::kSweepOwnMinSlots);
     }
-    if (long(l.stream.size()) > hls::kZbtDepth) {
+    if (long(l.stream.size()) != l.slots) {
+      throw Error("sweep core: lane " + std::to_string(j) + " has " +
+                  std::to_string(l.stream.size()) + " slots, its schedule " +
+                  std::to_string(l.slots) + " (internal error)");
+    }
+    if (long(l.stream.size()) > hls::kSweepSramWords) {
       throw Error("sweep core: lane " + std::to_string(j) + " streams " +
-                  std::to_string(l.stream.size()) + " edges, its SRAM holds " +
-                  std::to_string(hls::kZbtDepth));
+                  std::to_string(l.stream.size()) + " slots, its SRAM holds " +
+                  std::to_string(hls::kSweepSramWords) + " (two devices of " +
+                  std::to_string(hls::kZbtDepth) + " words)");
     }
   }
   img.cycles_per_step = plan.clocks;
@@ -452,7 +466,7 @@ void load_sweep_memory(const SweepImage& img, hls::SweepMemory& m) {
     const SweepLaneImage& l = img.lane[j];
     m.lane[j] = {std::uint32_t(l.first), std::uint32_t(l.count), std::uint32_t(l.ghost),
                  std::uint32_t(l.delay)};
-    for (std::size_t n = 0; n < l.stream.size(); ++n) m.sram[j][m.sram_read][n] = l.stream[n].pack();
+    for (std::size_t n = 0; n < l.stream.size(); ++n) m.sram[j][n] = l.stream[n].pack();
   }
   for (int i = 0; i < b.num_particles; ++i) {
     m.stat[i] = img.particle_static[i];

@@ -31,7 +31,7 @@ struct SweepLaneImage {
   int delay = 0;             // start delay (clocks)
   long cross_edges = 0, own_edges = 0;
   long slots = 0;            // stream slots per step (edges and padding)
-  std::vector<hls::SweepEdgeWord> stream;  // SRAM words in stream order
+  std::vector<hls::SweepEdgeWord> stream;  // SRAM words by slot (padding slots: zero words)
 };
 
 struct SweepImage {
@@ -46,7 +46,7 @@ struct SweepImage {
   std::vector<std::int64_t> class_len;   // per edge class: L (X word)
   std::vector<std::uint32_t> class_material;
   std::vector<hls::Coef> mass_minv;      // per mass class
-  std::vector<std::uint32_t> edge_slot;  // per model edge: lane << kSweepSlotLaneShift | n
+  std::vector<std::uint32_t> edge_slot;  // per model edge: lane << kSweepSlotLaneShift | slot
   long cycles_per_step = 0;              // hls::sweep_cycles
 };
 

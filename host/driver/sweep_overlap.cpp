@@ -164,23 +164,29 @@ std::string ports_clash(const Timeline& tl, long period, long clocks, long head)
     // and the MPM takes its entry from them. x/p port B: a start read, else the write-back
     // that waits in its register.
     bool pend = false, wb = false;
-    long count = 0, fetched = 0, popped = 0;
-    std::vector<long> written_at;  // the clock each queue entry reached the memory
+    long count = 0, popped = 0;
+    std::vector<long> written_at, fetched_at;  // per queue entry: written, read ahead
     for (long c = 0; c < horizon; ++c) {
       if (head == 0 && ghost[c] && qread[c]) return clash("a ghost read and the MPM's queue read", c);
       const bool q_write = !ghost[c] && !(head == 0 && qread[c]) && pend;
       if (push[c] && pend && !q_write) return clash("a queue entry still waiting for port A", c);
       if (q_write) written_at.push_back(c);
-      if (head > 0 && !ghost[c] && !q_write && fetched < long(written_at.size()) &&
-          written_at[fetched] < c && fetched - popped < head)
-        ++fetched;
-      if (qread[c]) {
-        const bool ready = head == 0 ? popped < long(written_at.size()) && written_at[popped] < c
-                                     : fetched > popped;
+      // As built the MPM reads its entry at its clock; read ahead, it takes the entry from
+      // the head registers a clock later (the read's data is registered there a clock after
+      // the read), and that frees the place for the next read ahead.
+      const bool take = head == 0 ? qread[c] : c > 0 && qread[c - 1];
+      if (take) {
+        const bool ready = head == 0
+                               ? popped < long(written_at.size()) && written_at[popped] < c
+                               : popped < long(fetched_at.size()) && fetched_at[popped] <= c - 2;
         if (!ready) return clash("the MPM's queue entry not yet in memory or read ahead", c);
         ++popped;
         --count;
       }
+      const long fetched = long(fetched_at.size());
+      if (head > 0 && !ghost[c] && !q_write && fetched < long(written_at.size()) &&
+          written_at[fetched] < c && fetched - popped < head)
+        fetched_at.push_back(c);
       if (push[c] && ++count > kQueueDepth) return clash("the MPM queue full", c);
       pend = push[c] ? true : (q_write ? false : pend);
       if (mpm[c] && wb && start[c]) return clash("two write-backs waiting for x/p port B", c);

@@ -94,7 +94,7 @@ TEST(SweepCosim, ATracedRunWritesAWaveformAndASaveFileForIt) {
   std::ifstream in(gtkw);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("L3 TEM f_o x [N]"), std::string::npos);
-  EXPECT_NE(text.find("L0 SRAM word n"), std::string::npos);
+  EXPECT_NE(text.find("L0 slot n (SRAM word)"), std::string::npos);
   fs::remove_all(dir);
 }
 
