@@ -116,7 +116,11 @@ enum GlobalRegister : std::uint32_t {
   kGlobalGravityY = 3,
   kGlobalGravityZ = 4,
   kGlobalControl = 5,  // kControl* bits; a write also forgets which particles the plate held
-  kNumGlobals = 6,
+  kNumGlobals = 6,     // every core's
+  // The sweep core's only: the clocks from one step's plate word to the next step's, when a
+  // command runs several steps and the next word is there (0: each step after the last
+  // one's force; host/driver/sweep_overlap.hpp computes it from the image).
+  kGlobalSweepPeriod = 6,
 };
 
 // The tool unit's registers (region kRegionTool, hls::ToolRegs): the tool's kind

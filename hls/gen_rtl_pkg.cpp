@@ -133,6 +133,7 @@ int main() {
   param("GlobalGravityY", f::kGlobalGravityY, "global register");
   param("GlobalGravityZ", f::kGlobalGravityZ, "global register");
   param("GlobalControl", f::kGlobalControl, "global register");
+  param("GlobalSweepPeriod", f::kGlobalSweepPeriod, "global register (sweep core)");
   param("ControlFloorBit", std::countr_zero(f::kControlFloor), "control register: floor enable");
   param("ControlPlateBit", std::countr_zero(f::kControlPlate), "control register: plate enable");
   param("ControlPlateHoldBit", std::countr_zero(f::kControlPlateHold),

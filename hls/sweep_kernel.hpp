@@ -124,6 +124,7 @@ struct SweepMemory {
   SweepLaneRegs lane[kSweepMaxLanes];
   std::uint32_t lanes = 1;          // lanes of the core
   std::uint32_t num_particles = 0;  // for the host's range checks
+  std::uint32_t period = 0;         // frame::kGlobalSweepPeriod: clocks between overlapped steps
   MpmGlobals globals;
   std::uint32_t status = 0;
   std::uint32_t step_count = 0;
@@ -331,6 +332,18 @@ inline long sweep_cycles(const SweepMemory& m) {
     if (m.lane[j].count > 0 && t > longest) longest = t;
   }
   return longest + kSweepDrainCycles;
+}
+
+// The clocks from one step's start to the next's within a command: the host's period
+// (host/driver/sweep_overlap.hpp) when it is shorter than a step of `one` clocks, else a
+// whole step.
+inline long sweep_period(long one, long period) { return period > 0 && period < one ? period : one; }
+inline long sweep_period(const SweepMemory& m) { return sweep_period(sweep_cycles(m), long(m.period)); }
+
+// The clocks of a command of `steps` steps (the core's busy clocks, status word 2), when
+// the host keeps the next step's plate word ahead of it.
+inline long sweep_command_cycles(long one, long period, long steps) {
+  return steps <= 0 ? 0 : (steps - 1) * sweep_period(one, period) + one;
 }
 
 }  // namespace rheo::hls

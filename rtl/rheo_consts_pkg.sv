@@ -105,6 +105,7 @@ package rheo_consts_pkg;
   localparam int GlobalGravityY = 3;  // global register
   localparam int GlobalGravityZ = 4;  // global register
   localparam int GlobalControl = 5;  // global register
+  localparam int GlobalSweepPeriod = 6;  // global register (sweep core)
   localparam int ControlFloorBit = 0;  // control register: floor enable
   localparam int ControlPlateBit = 1;  // control register: plate enable
   localparam int ControlPlateHoldBit = 2;  // control register: hold while pushing

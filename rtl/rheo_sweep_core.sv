@@ -78,6 +78,7 @@ module rheo_sweep_core #(
 
   // ---------------------------------------------------------------- controller
   logic host_we, xp_we, stat_we, ghost_we, zbt_valid, zbt_we, idle, go;
+  logic step_end, mixed, acc_clear;
   logic [RegionW-1:0] region;
   logic [FieldW-1:0] field;
   logic [IdxCountW-1:0] index;
@@ -108,7 +109,8 @@ module rheo_sweep_core #(
     .lane_o(lane_sel), .local_o(local_addr), .xp_we_o(xp_we), .stat_we_o(stat_we),
     .xp_wdata_o(xp_wdata), .ghost_we_o(ghost_we), .ghost_addr_o(ghost_addr),
     .zbt_valid_o(zbt_valid), .zbt_we_o(zbt_we), .zbt_addr_o(zbt_addr), .zbt_wdata_o(zbt_wdata),
-    .read_word_i(read_word), .idle_o(idle), .go_o(go), .done_i(done),
+    .read_word_i(read_word), .idle_o(idle), .go_o(go), .step_end_o(step_end), .mixed_o(mixed),
+    .acc_clear_o(acc_clear), .done_i(done),
     .count_o(count), .ghost_o(ghost), .delay_o(delay), .gravity_o(gravity),
     .floor_en_o(floor_en), .plate_en_o(plate_en), .plate_z_o(plate_z), .hold_en_o(hold_en),
     .plate_prev_o(plate_prev), .lane_flags_i(lane_flags), .plate_acc_i(plate_acc));
@@ -139,7 +141,7 @@ module rheo_sweep_core #(
   logic [XpW-1:0] gxo_wdata [Lanes];
   logic [GAW-1:0] gsn_raddr [Lanes];
   logic [3*SumW-1:0] gs_rdata [Lanes];
-  logic [GAW:0] xread [Lanes], xdone [Lanes];
+  logic [GAW:0] xread [Lanes], xdone [Lanes], gxw [Lanes], gsr [Lanes];
   logic [XpW-1:0] xp_rdata [Lanes];
   logic [DW-1:0] zbt_rdata [Lanes];
   logic [Lanes-1:0] plate_valid;
@@ -169,7 +171,8 @@ module rheo_sweep_core #(
       .W(W), .CoefW(CoefW), .SlabDepth(SlabDepth), .GhostDepth(GhostDepth), .Window(Window),
       .HasGhost(Below ? 1 : 0), .DelayW(DelayW)
     ) u_lane (
-      .clk_i(clk_i), .rst_ni(rst_ni), .go_i(go), .idle_i(idle),
+      .clk_i(clk_i), .rst_ni(rst_ni), .go_i(go), .step_end_i(step_end), .mixed_i(mixed),
+      .idle_i(idle),
       .done_o(done[j]),
       .count_i(count[j*(SAW+1) +: SAW+1]), .ghost_i(ghost[j*(GAW+1) +: GAW+1]),
       .delay_i(delay[j*DelayW +: DelayW]),
@@ -184,6 +187,8 @@ module rheo_sweep_core #(
       .gsn_raddr_o(gsn_raddr[j]), .gsn_rdata_i(Above ? gs_rdata[JA] : '0),
       .xread_o(xread[j]), .xdone_o(xdone[j]),
       .next_xread_i(Above ? xread[JA] : '0), .next_xdone_i(Above ? xdone[JA] : '0),
+      .gxw_o(gxw[j]), .gsr_o(gsr[j]),
+      .prev_gxw_i(Below ? gxw[JB] : '0), .prev_gsr_i(Below ? gsr[JB] : '0),
       .cls_o(cls[j*ClsW +: ClsW]), .len_i(len[j*W +: W]),
       .cls_mat_i(cls_mat[j*MIdxW +: MIdxW]), .mat_o(mat[j*MIdxW +: MIdxW]),
       .coef_i(coef[j*NumCoef*CoefW +: NumCoef*CoefW]), .mflags_i(mflags[j*MFlagsW +: MFlagsW]),
@@ -207,7 +212,7 @@ module rheo_sweep_core #(
   end
 
   rheo_sweep_plate_acc #(.Lanes(Lanes), .W(W)) u_plate_acc (
-    .clk_i(clk_i), .start_i(go), .valid_i(plate_valid), .plate_f_i(plate_f), .acc_o(plate_acc));
+    .clk_i(clk_i), .start_i(acc_clear), .valid_i(plate_valid), .plate_f_i(plate_f), .acc_o(plate_acc));
 
   // ---------------------------------------------------------------- read-back
   // The word of the entry the controller reads (memories read in the clock before), in two

@@ -18,6 +18,17 @@
 // sent. The compute clocks of a step (status word 2) count from the plate word's clock to
 // the clock before the force word is offered: max over lanes of (start delay + slots) +
 // SweepDrainCycles (hls::sweep_cycles).
+//
+// Steps of one command overlap: the next step's plate word is taken ahead while a step
+// runs, and when the host's period (global SweepPeriod, host/driver/sweep_overlap.hpp: the
+// least start-to-start clocks at which no memory word or port of two steps meets) has
+// passed since the last go, the next step goes (ahead) while the last one drains. Its
+// plate word reaches the MPMs at the last step's end (step_end_o: the force is latched, the
+// plate sum cleared, the lanes' done counts restart), which the period puts before its
+// first MPM. Exactly at the period or not at all: a step that misses it (its word not there,
+// the force word not yet sent) starts after the last one's force, as without a period, so
+// that no other start-to-start distance is ever run. A command of n steps takes
+// (n - 1) x period + one step's clocks (hls::sweep_command_cycles).
 module rheo_sweep_ctrl #(
   parameter int Lanes = 5,
   parameter int SlabDepth = 1024,
@@ -66,6 +77,9 @@ module rheo_sweep_ctrl #(
   // Step.
   output logic                   idle_o,
   output logic                   go_o,
+  output logic                   step_end_o,     // a step's force latched: the MPMs take the next
+  output logic                   mixed_o,        // two steps in the lanes (go ahead .. step_end)
+  output logic                   acc_clear_o,    // the plate sum starts afresh
   input  logic [Lanes-1:0]       done_i,
   output logic [Lanes*(SAW+1)-1:0] count_o,
   output logic [Lanes*(GAW+1)-1:0] ghost_o,
@@ -115,6 +129,13 @@ module rheo_sweep_ctrl #(
   logic plate_hold_en_q, plate_hold_en_d, plate_prev_valid_q, plate_prev_valid_d;
   logic [W-1:0] plate_prev_q, plate_prev_d;
   logic [31:0] status_q, status_d, step_count_q, step_count_d, cycle_count_q, cycle_count_d;
+  // Overlapped steps: the period, clocks since the last go, the next plate word taken ahead
+  // (next_*), the step gone ahead and its plate word (ahead_*), two steps in the lanes.
+  localparam int PeriodW = IdxCountW;
+  logic [PeriodW-1:0] period_q, period_d, since_go_q, since_go_d;
+  logic next_valid_q, next_valid_d, ahead_q, ahead_d, mixed_q, mixed_d;
+  logic [W-1:0] next_word_q, next_word_d, ahead_word_q, ahead_word_d;
+  logic take_next, go_ahead, step_end;
 
   logic [OpW-1:0] hdr_opcode;
   logic [RegionW-1:0] hdr_region;
@@ -125,14 +146,18 @@ module rheo_sweep_ctrl #(
   assign word_index = s_axis_tdata[IdxCountW-1:0];
 
   logic in_fire, out_fire;
+  // The next plate word of a run command is taken while a step runs.
+  assign take_next = (state_q == StRun || state_q == StDrain || state_q == StForceOut) &&
+                     !next_valid_q && count_q > IdxCountW'(1) + IdxCountW'(ahead_q);
   assign s_axis_tready = (state_q == StIdle) || (state_q == StWStart) || (state_q == StWData) ||
-                         (state_q == StRStart) || (state_q == StRunPlate);
+                         (state_q == StRStart) || (state_q == StRunPlate && !next_valid_q) ||
+                         take_next;
   assign in_fire = s_axis_tvalid && s_axis_tready;
   assign out_fire = out_valid_q && m_axis_tready;
   assign m_axis_tdata = out_data_q;
   assign m_axis_tvalid = out_valid_q;
   assign m_axis_tlast = out_last_q;
-  assign busy_o = (state_q == StRun) || (state_q == StDrain);
+  assign busy_o = (state_q == StRun) || (state_q == StDrain) || ahead_q;
   assign idle_o = !busy_o;
 
   // Which regions a command may name, and how their entries are addressed.
@@ -246,7 +271,13 @@ module rheo_sweep_ctrl #(
   assign zbt_we_o = state_q == StWData;
   assign zbt_addr_o = index_q[NW:0];
   assign zbt_wdata_o = {s_axis_tdata[rheo_consts_pkg::SweepClassBits:0], xp_buf_q[W-1:0]};
-  assign go_o = (state_q == StRunPlate) && in_fire;
+  assign go_ahead = (state_q == StRun || state_q == StDrain) && !ahead_q && next_valid_q &&
+                    period_q != '0 && since_go_q == period_q;
+  assign go_o = (state_q == StRunPlate && (in_fire || next_valid_q)) || go_ahead;
+  assign step_end = state_q == StDrain && wait_q == '0;
+  assign step_end_o = step_end;
+  assign mixed_o = mixed_q || go_ahead;
+  assign acc_clear_o = step_end || (state_q == StRunPlate && go_o);
   for (genvar j = 0; j < Lanes; j++) begin : g_lane_regs
     assign count_o[j*(SAW+1) +: SAW+1] = lcount_q[j];
     assign ghost_o[j*(GAW+1) +: GAW+1] = lghost_q[j];
@@ -269,7 +300,8 @@ module rheo_sweep_ctrl #(
     .s_axis_tlast(s_axis_tlast),
     .m_axis_tdata(m_axis_tdata), .m_axis_tvalid(m_axis_tvalid), .m_axis_tready(m_axis_tready),
     .m_axis_tlast(m_axis_tlast),
-    .busy_i(busy_o), .state_i(state_q),
+    // Input while busy: only a run command's next plate word.
+    .busy_i(busy_o && !take_next), .state_i(state_q),
     .holds_word_i(state_q == StRSend || state_q == StStatSend || state_q == StForceOut),
     .bank_i(lane_q), .div_rem_i('0), .drain_i(wait_q), .div_step_i(1'b0));
 `endif
@@ -345,6 +377,24 @@ module rheo_sweep_ctrl #(
     step_count_d = step_count_q;
     status_d = status_q | lane_flags_i;
     cycle_count_d = (busy_o || go_o) ? cycle_count_q + 32'd1 : cycle_count_q;
+    period_d = period_q;
+    since_go_d = go_o ? PeriodW'(1) : since_go_q + PeriodW'(since_go_q != '1);
+    next_valid_d = next_valid_q;
+    next_word_d = next_word_q;
+    ahead_d = ahead_q;
+    ahead_word_d = ahead_word_q;
+    mixed_d = mixed_q;
+    if (take_next && s_axis_tvalid) begin
+      next_valid_d = 1'b1;
+      next_word_d = s_axis_tdata;
+    end
+    if (go_ahead) begin
+      next_valid_d = 1'b0;
+      ahead_d = 1'b1;
+      ahead_word_d = next_word_q;
+      mixed_d = 1'b1;
+    end
+    if (step_end) mixed_d = 1'b0;
 
     unique case (state_q)
       StIdle: begin
@@ -425,6 +475,7 @@ module rheo_sweep_ctrl #(
               IdxCountW'(rheo_consts_pkg::GlobalGravityX): gravity_d[0*W +: W] = s_axis_tdata;
               IdxCountW'(rheo_consts_pkg::GlobalGravityY): gravity_d[1*W +: W] = s_axis_tdata;
               IdxCountW'(rheo_consts_pkg::GlobalGravityZ): gravity_d[2*W +: W] = s_axis_tdata;
+              IdxCountW'(rheo_consts_pkg::GlobalSweepPeriod): period_d = s_axis_tdata[PeriodW-1:0];
               IdxCountW'(rheo_consts_pkg::GlobalControl): begin
                 floor_en_d = s_axis_tdata[rheo_consts_pkg::ControlFloorBit];
                 plate_en_d = s_axis_tdata[rheo_consts_pkg::ControlPlateBit];
@@ -531,8 +582,9 @@ module rheo_sweep_ctrl #(
         end
       end
       StRunPlate: begin
-        if (in_fire) begin
-          plate_z_d = s_axis_tdata;
+        if (go_o) begin
+          plate_z_d = next_valid_q ? next_word_q : s_axis_tdata;
+          next_valid_d = 1'b0;
           plate_prev_d = plate_z_q;
           plate_prev_valid_d = 1'b1;
           state_d = StRun;
@@ -557,6 +609,12 @@ module rheo_sweep_ctrl #(
           out_last_d = (count_q == IdxCountW'(1));
           step_count_d = step_count_q + 32'd1;
           state_d = StForceOut;
+          // The step gone ahead: its plate word for the MPMs from now on.
+          if (ahead_q) begin
+            plate_z_d = ahead_word_q;
+            plate_prev_d = plate_z_q;
+            plate_prev_valid_d = 1'b1;
+          end
         end
       end
       StForceOut: begin
@@ -564,7 +622,8 @@ module rheo_sweep_ctrl #(
           out_valid_d = 1'b0;
           out_last_d = 1'b0;
           count_d = count_q - IdxCountW'(1);
-          state_d = (count_q == IdxCountW'(1)) ? StIdle : StRunPlate;
+          ahead_d = 1'b0;
+          state_d = ahead_q ? StRun : (count_q == IdxCountW'(1)) ? StIdle : StRunPlate;
         end
       end
       default: state_d = StIdle;
@@ -609,6 +668,13 @@ module rheo_sweep_ctrl #(
       status_q <= '0;
       step_count_q <= '0;
       cycle_count_q <= '0;
+      period_q <= '0;
+      since_go_q <= '0;
+      next_valid_q <= 1'b0;
+      next_word_q <= '0;
+      ahead_q <= 1'b0;
+      ahead_word_q <= '0;
+      mixed_q <= 1'b0;
     end else begin
       state_q <= state_d;
       reading_q <= reading_d;
@@ -646,6 +712,13 @@ module rheo_sweep_ctrl #(
       status_q <= status_d;
       step_count_q <= step_count_d;
       cycle_count_q <= cycle_count_d;
+      period_q <= period_d;
+      since_go_q <= since_go_d;
+      next_valid_q <= next_valid_d;
+      next_word_q <= next_word_d;
+      ahead_q <= ahead_d;
+      ahead_word_q <= ahead_word_d;
+      mixed_q <= mixed_d;
     end
   end
 endmodule

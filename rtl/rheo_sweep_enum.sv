@@ -60,6 +60,8 @@ module rheo_sweep_enum #(
   output logic                    plate_o,
   output logic                    has_in_o,     // some edge ends at it
   output logic                    has_cross_o,  // some edge leaves the slab from it
+  output logic                    step_first_o, // the step's first slot
+  output logic                    busy_o,       // a step's stream not yet ended
   output logic                    starved_o     // the queue was empty with slots to come
 );
   localparam int QDepth = 8;
@@ -156,7 +158,7 @@ module rheo_sweep_enum #(
   logic [CntW-1:0] cur_cnt_q;
   logic [NW:0] n_q;
   logic [DelayW+1:0] wait_q;
-  logic waiting_q, running_q;
+  logic waiting_q, running_q, first_pending_q;
   logic [EntryW-1:0] head, e;
   logic [Offsets-1:0] m, m_next;
   logic [NeW-1:0] rem, cur_rem_q;  // edges left of the particle (this slot's included)
@@ -210,6 +212,8 @@ module rheo_sweep_enum #(
       wait_q <= '0;
       waiting_q <= 1'b0;
       running_q <= 1'b0;
+      first_pending_q <= 1'b0;
+      step_first_o <= 1'b0;
       slot_o <= 1'b0;
       edge_o <= 1'b0;
       first_o <= 1'b0;
@@ -269,6 +273,7 @@ module rheo_sweep_enum #(
         cur_q <= 1'b0;
         waiting_q <= 1'b1;
         running_q <= 1'b0;
+        first_pending_q <= 1'b1;
         // The queue's first entry is there in clock 4 (read, masked, counted); the first
         // slot leaves in clock 4 + delay and is in the slot registers from clock
         // 5 + delay (SweepLeadClocks).
@@ -283,6 +288,8 @@ module rheo_sweep_enum #(
       end
       // Slots.
       slot_o <= slot;
+      step_first_o <= slot && first_pending_q;
+      if (slot) first_pending_q <= 1'b0;
       edge_o <= slot && rem != '0;
       first_o <= slot && !cur_q;
       last_o <= slot && last;
@@ -308,4 +315,5 @@ module rheo_sweep_enum #(
       if (sweeping && !slot && !pf_active_q && !rd_q && !m1_q) running_q <= 1'b0;
     end
   end
+  assign busy_o = waiting_q || running_q;
 endmodule

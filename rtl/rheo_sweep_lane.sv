@@ -60,6 +60,8 @@ module rheo_sweep_lane #(
   input  logic                    clk_i,
   input  logic                    rst_ni,
   input  logic                    go_i,         // a step starts (its plate word is taken)
+  input  logic                    step_end_i,   // a step's force is latched: done restarts
+  input  logic                    mixed_i,      // the next step went ahead of the last one's end
   input  logic                    idle_i,       // no step runs: the host owns the memories
   output logic                    done_o,       // every own particle of the step written
   input  logic [SAW:0]            count_i,
@@ -92,6 +94,12 @@ module rheo_sweep_lane #(
   output logic [GAW:0]            xdone_o,
   input  logic [GAW:0]            next_xread_i,
   input  logic [GAW:0]            next_xdone_i,
+  // Ghost copies written and ghost sums read by this lane's MPMs this step (for the lane
+  // above, while two steps are in the lanes), and the lane below's.
+  output logic [GAW:0]            gxw_o,
+  output logic [GAW:0]            gsr_o,
+  input  logic [GAW:0]            prev_gxw_i,
+  input  logic [GAW:0]            prev_gsr_i,
   // Tables (rheo_sweep_tables, rheo_core_mem_mat): class -> L, material -> coefficients,
   // mass class -> 1/m, each one registered read.
   output logic [ClsW-1:0]         cls_o,        // E+4
@@ -147,6 +155,7 @@ module rheo_sweep_lane #(
 
   // ---------------------------------------------------------------- stream
   logic s_slot, s_edge, s_first, s_last, s_cross, s_fixed, s_plate, s_has_in, s_has_cross;
+  logic s_step_first, enum_busy;
   logic [SAW-1:0] s_idx;
   logic [KW-1:0] s_k;
   logic [NW:0] s_n;
@@ -161,15 +170,17 @@ module rheo_sweep_lane #(
     .prev_stat_addr_o(prev_stat_addr_o), .prev_stat_i(prev_stat_i),
     .slot_o(s_slot), .edge_o(s_edge), .first_o(s_first), .last_o(s_last), .cross_o(s_cross),
     .idx_o(s_idx), .k_o(s_k), .n_o(s_n), .mass_o(s_mass), .fixed_o(s_fixed), .plate_o(s_plate),
-    .has_in_o(s_has_in), .has_cross_o(s_has_cross), .starved_o(starved));
+    .has_in_o(s_has_in), .has_cross_o(s_has_cross), .step_first_o(s_step_first),
+    .busy_o(enum_busy), .starved_o(starved));
 
   // ---------------------------------------------------------------- slot pipeline E+1..E+4
-  // A slot's fields, carried along: {has_cross, has_in, plate, fixed, mass, n, e, idx,
-  // cross, last, first, edge, slot}.
+  // A slot's fields, carried along: {step_first, has_cross, has_in, plate, fixed, mass, n,
+  // e, idx, cross, last, first, edge, slot}.
   localparam int PSlot = 0, PEdge = 1, PFirst = 2, PLast = 3, PCross = 4, PIdx = 5;
   localparam int PE = PIdx + SAW, PN = PE + SAW, PMass = PN + NW + 1, PFixed = PMass + MassW;
   localparam int PPlate = PFixed + 1, PHasIn = PPlate + 1, PHasCross = PHasIn + 1;
-  localparam int PW = PHasCross + 1;
+  localparam int PStepFirst = PHasCross + 1;
+  localparam int PW = PStepFirst + 1;
   // E+1 holds the slot's offset o_k (PE), E+2 its end's local index there.
   logic [OffW-1:0] off_k;
   logic [SAW:0] e_own, e_cross;
@@ -198,6 +209,7 @@ module rheo_sweep_lane #(
       p1_q[PPlate] <= s_plate;
       p1_q[PHasIn] <= s_has_in;
       p1_q[PHasCross] <= s_has_cross;
+      p1_q[PStepFirst] <= s_step_first;
       p2_q <= p1_q;
       p2_q[PE +: SAW] <= SAW'(p1_q[PCross] ? e_cross : e_own);
       p3_q <= p2_q;
@@ -363,27 +375,33 @@ module rheo_sweep_lane #(
   assign unused_tem = ^{tem_idx, tem_m};
   // What the results need of the slot waits beside the TEM (padding slots too): its flags,
   // the end's window address, the class and first tag. The SRAM word and the particle
-  // are counted again at the output (they come in stream order).
-  localparam int UW = 5 + WAW + ClsW + 1;
+  // are counted again at the output (they come in stream order), from 0 at a step's first
+  // slot: the next step's slots may follow the last one's into the TEM.
+  localparam int UW = 6 + WAW + ClsW + 1;
   logic [UW-1:0] u_in, u_out;
-  logic u_slot, u_edge_bit, u_first, u_last, u_cross, u_fin;
+  logic u_slot, u_edge_bit, u_first, u_last, u_cross, u_fin, u_step_first;
   logic [WAW-1:0] u_e;
   logic [ClsW-1:0] u_cls;
-  assign u_in = {fin5_q, cls5_q, p5_q[PE +: WAW], p5_q[PCross], p5_q[PLast], p5_q[PFirst],
-                 p5_q[PEdge], p5_q[PSlot]};
+  assign u_in = {p5_q[PStepFirst], fin5_q, cls5_q, p5_q[PE +: WAW], p5_q[PCross], p5_q[PLast],
+                 p5_q[PFirst], p5_q[PEdge], p5_q[PSlot]};
   rheo_delay #(.W(UW), .N(TemLat)) u_beside_tem (
     .clk_i(clk_i), .rst_ni(rst_ni), .d_i(u_in), .q_o(u_out));
-  assign {u_fin, u_cls, u_e, u_cross, u_last, u_first, u_edge_bit, u_slot} = u_out;
+  assign {u_step_first, u_fin, u_cls, u_e, u_cross, u_last, u_first, u_edge_bit, u_slot} = u_out;
   logic u_edge;
   assign u_edge = u_slot && u_edge_bit;
   // The slot's number (its SRAM word) and particle, counted at the output: slots leave the
   // TEM in the order they entered it.
-  logic [NW:0] wr_n_q;
-  logic [SAW-1:0] u_cross_idx_q, u_own_idx_q;
+  logic [NW:0] wr_n_q, wr_n;
+  logic [SAW-1:0] u_cross_idx_q, u_own_idx_q, u_cross_idx, u_own_idx;
+  logic u_restart;
+  assign u_restart = u_slot && u_step_first;
+  assign wr_n = u_restart ? '0 : wr_n_q;
+  assign u_cross_idx = u_restart ? '0 : u_cross_idx_q;
+  assign u_own_idx = u_restart ? '0 : u_own_idx_q;
 
   // ---------------------------------------------------------------- E+45: results
   assign wr_cmd = u_edge;
-  assign wr_addr = wr_n_q;
+  assign wr_addr = wr_n;
   assign wr_word = {u_fin, u_cls, tem_d};
   logic signed [SumW-1:0] f_ext [3];
   logic [3*SumW-1:0] neg_f;
@@ -405,7 +423,7 @@ module rheo_sweep_lane #(
       sacc_q[i*SumW +: SumW] <= (u_first ? SumW'(0) : sacc_q[i*SumW +: SumW]) +
                                 (u_edge ? f_ext[i] : SumW'(0));
     g1_cross_q <= u_cross;
-    g1_idx_q <= u_cross ? u_cross_idx_q : u_own_idx_q;
+    g1_idx_q <= u_cross ? u_cross_idx : u_own_idx;
   end
 
   // ---------------------------------------------------------------- E+46: a particle is done
@@ -555,8 +573,13 @@ module rheo_sweep_lane #(
   assign gxo_wdata_o = {mpm_p, mpm_x};
 
   // ---------------------------------------------------------------- control and checks
-  logic [SAW:0] written_q;
-  logic [GAW:0] xread_q, xdone_q;
+  logic [SAW:0] written_q, ended_q, wb_done_q;
+  logic [GAW:0] xread_q, xdone_q, gxw_q, gsr_q;
+  logic newer_q, newer_rd_q, newer_rd, newer_out_q, g1_restart_q, wb_write, gs_read, p3_restart;
+  assign p3_restart = p3_q[PSlot] && p3_q[PStepFirst];
+  assign newer_rd = newer_rd_q || (p3_restart && newer_q);
+  assign wb_write = !idle_i && wb_q && !start_rd;
+  assign gs_read = own_end && h_has_cross && {1'b0, g1_idx_q} >= ghost_from && has_next_ghost;
   logic conflict;
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
@@ -581,11 +604,20 @@ module rheo_sweep_lane #(
       u_cross_idx_q <= '0;
       u_own_idx_q <= '0;
       written_q <= '0;
+      ended_q <= '0;
+      wb_done_q <= '0;
       done_o <= 1'b1;
       xread_q <= '0;
       xdone_q <= '0;
+      gxw_q <= '0;
+      gsr_q <= '0;
+      newer_q <= 1'b0;
+      newer_rd_q <= 1'b0;
+      newer_out_q <= 1'b0;
+      g1_restart_q <= 1'b0;
     end else begin
       g1_q <= u_slot && u_last;
+      g1_restart_q <= u_restart;
       m2_q <= own_end;
       m3_q <= m2_q;
       m4_q <= m3_q;
@@ -604,9 +636,11 @@ module rheo_sweep_lane #(
         qx_pend_q <= 1'b0;
       end
       q_cnt_q <= q_cnt_q + (QAW+1)'(q_push) - (QAW+1)'(q_take);
-      if (u_slot) wr_n_q <= wr_n_q + 1'b1;
-      if (u_slot && u_last && u_cross) u_cross_idx_q <= u_cross_idx_q + 1'b1;
-      if (u_slot && u_last && !u_cross) u_own_idx_q <= u_own_idx_q + 1'b1;
+      if (u_slot) begin
+        wr_n_q <= wr_n + 1'b1;
+        u_cross_idx_q <= u_cross_idx + SAW'(u_last && u_cross);
+        u_own_idx_q <= u_own_idx + SAW'(u_last && !u_cross);
+      end
       // An MPM result waits in wb for port B (a start read has it in that clock).
       if (mpm_valid) begin
         wb_q <= 1'b1;
@@ -615,38 +649,84 @@ module rheo_sweep_lane #(
       end else if (wb_q && !start_rd) begin
         wb_q <= 1'b0;
       end
-      if (go_i) begin
-        wr_n_q <= '0;
-        u_cross_idx_q <= '0;
-        u_own_idx_q <= '0;
+      // Particles of the step on their MPM path (sums complete, results, results written
+      // back): from 0 at the step's end, after which the next step's may begin
+      // (host/driver/sweep_overlap.cpp puts them there).
+      if (step_end_i) begin
+        ended_q <= '0;
         written_q <= '0;
+        wb_done_q <= '0;
         done_o <= count_i == '0;
-        xread_q <= '0;
-        xdone_q <= '0;
+        gxw_q <= '0;
+        gsr_q <= '0;
       end else begin
-        if (mpm_valid) written_q <= written_q + 1'b1;
+        ended_q <= ended_q + (SAW+1)'(own_end);
+        written_q <= written_q + (SAW+1)'(mpm_valid);
+        wb_done_q <= wb_done_q + (SAW+1)'(wb_write);
         done_o <= (written_q + (SAW+1)'(mpm_valid)) == count_i;
-        if (ghost_rd) xread_q <= xread_q + 1'b1;
-        if (cross_end) xdone_q <= xdone_q + 1'b1;
+        gxw_q <= gxw_q + (GAW+1)'(gxo_we_o);
+        gsr_q <= gsr_q + (GAW+1)'(gs_read);
+      end
+      // Ghosts read and ghost sums written, from the step's first slot (at the reads, at
+      // the TEM's output): the last step's slots may still be on their way after a go.
+      xread_q <= (p3_restart ? '0 : xread_q) + (GAW+1)'(ghost_rd);
+      xdone_q <= (g1_restart_q ? '0 : xdone_q) + (GAW+1)'(cross_end);
+      // A step gone ahead of the last one's end (newer_q, from its go): its slots at the
+      // reads (newer_rd_q) and at the TEM's output (newer_out_q), from its first slot there.
+      if (step_end_i) begin
+        newer_q <= 1'b0;
+        newer_rd_q <= 1'b0;
+        newer_out_q <= 1'b0;
+      end else begin
+        if (go_i && mixed_i) newer_q <= 1'b1;
+        if (p3_restart && newer_q) newer_rd_q <= 1'b1;
+        if (u_restart && newer_q) newer_out_q <= 1'b1;
       end
     end
   end
-  assign xread_o = xread_q;
-  assign xdone_o = xdone_q;
-  // A ghost sum read before the lane above wrote it, or a ghost write before it read the
-  // ghost, would mix steps: the host's start delays keep them apart; the flag reports a
-  // load that does not.
+  // While a step has gone ahead, the lane below's MPMs finish the last one, whose ghosts
+  // this lane has all read and whose sums it has all written: its counts say so.
+  assign xread_o = newer_rd_q ? '1 : xread_q;
+  assign xdone_o = newer_out_q ? '1 : xdone_q;
+  assign gxw_o = gxw_q;
+  assign gsr_o = gsr_q;
+  // Hazards the host's start delays and period keep apart (host/driver/sweep_overlap.cpp);
+  // the flag reports a load or period that does not:
+  //   one step: a ghost sum read before the lane above wrote it, a ghost write before it
+  //   read the ghost;
+  //   a step gone ahead (newer_*): a read of a particle's x/p before the last step wrote it
+  //   back, a ghost read before the lane below wrote that ghost, a ghost sum written before
+  //   the lane below read the last one, an end-side addition into a window entry the last
+  //   step's MPM has not read, a particle's MPM path (its sums read) before the last step's
+  //   end;
+  //   a go while the stream still runs, a full queue, an entry not read ahead in time, two
+  //   write-backs for port B, a starved stream.
   // Its terms are registered and raise the flag a clock later (the status is read long
   // after a step ends), so the comparisons do not meet the flag logic in one clock.
-  logic [4:0] conflict_q;
+  // The last step's last particle in the addition's window entry (local index = u_e mod
+  // Window), if it has one.
+  logic [SAW:0] need_e;
+  logic e_used;
+  assign e_used = count_i > (SAW+1)'(u_e);
+  assign need_e = {(SAW+1-WAW)'((count_i - 1'b1 - (SAW+1)'(u_e)) >> WAW), u_e};
+  logic [12:0] conflict_q;
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) conflict_q <= '0;
     else conflict_q <= {own_end && h_has_cross &&
                           !({1'b0, g1_idx_q} >= ghost_from && has_next_ghost &&
                             {1'b0, gsn_raddr_o} < next_xdone_i),
                         gxo_we_o && !({1'b0, gxo_addr_o} < next_xread_i),
+                        newer_rd && p3_q[PSlot] && p3_q[PEdge] &&
+                          !({1'b0, p3_q[PE +: SAW]} < wb_done_q),
+                        newer_rd && start_rd && !({1'b0, p3_q[PIdx +: SAW]} < wb_done_q),
+                        newer_rd && ghost_rd && !({1'b0, p3_q[PIdx +: SAW]} < {{(SAW-GAW){1'b0}}, prev_gxw_i}),
+                        newer_out_q && cross_end && !({1'b0, g1_idx_q} < {{(SAW-GAW){1'b0}}, prev_gsr_i}),
+                        (newer_out_q || (u_restart && newer_q)) && u_edge && e_used && !(need_e < written_q),
+                        own_end && ended_q == count_i,
+                        go_i && enum_busy,
                         starved,
                         q_push && q_cnt_q == (QAW+1)'(QDepth),
+                        q_take && h_cnt_q == '0,
                         mpm_valid && wb_q && start_rd};
   end
   assign conflict = |conflict_q;
@@ -679,6 +759,7 @@ module rheo_sweep_lane #(
         else $error("rheo_sweep_lane: a queue entry waiting for port A during the cross sweep");
       assert (!(mpm_valid && wb_q && start_rd)) else $error("rheo_sweep_lane: two MPM results for port B");
       assert (!starved) else $error("rheo_sweep_lane: the stream starved (prefetch behind)");
+      if (conflict_q != '0) $display("rheo_sweep_lane: schedule conflict terms %b at %0t", conflict_q, $time);
       assert (idle_i || !(rd_cmd && wr_cmd && s_n[0] == wr_addr[0]))
         else $error("rheo_sweep_lane: a slot's read and another's write in one SRAM device");
     end

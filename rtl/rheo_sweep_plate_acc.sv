@@ -12,7 +12,7 @@ module rheo_sweep_plate_acc #(
   localparam int PlateAccW = rheo_consts_pkg::PlateAccW
 ) (
   input  logic                 clk_i,
-  input  logic                 start_i,  // a step's plate word is taken: clear
+  input  logic                 start_i,  // clear: a step's force latched, or a step starts alone
   input  logic [Lanes-1:0]     valid_i,
   input  logic [Lanes*W-1:0]   plate_f_i,
   output logic [PlateAccW-1:0] acc_o
@@ -40,7 +40,8 @@ module rheo_sweep_plate_acc #(
     for (int j = 0; j < 2; j++) sum2_q[j] <= sum1_q[2*j] + sum1_q[2*j+1];
     sum3_q <= sum2_q[0] + sum2_q[1];
   end
-  // Cleared when a step's plate word arrives (a synchronous reset, as rheo_core's).
+  // Cleared when a step's force is latched or a step starts alone (a synchronous reset, as
+  // rheo_core's); a step gone ahead adds nothing before the last one's force is latched.
   logic signed [PlateAccW-1:0] plate_acc_q;
   always_ff @(posedge clk_i) begin
     if (start_i) plate_acc_q <= '0;

@@ -102,6 +102,13 @@ class Backend {
   // Clocks per step by the core's documented formula, where the backend knows it from the
   // loaded model (empty: the caller uses rheo_core's, driver::cycles_per_step_formula).
   virtual std::optional<long> cycles_per_step_formula() const { return std::nullopt; }
+  // Clocks of one run command of `steps` steps by that formula (empty: steps x the clocks per
+  // step): a core whose steps overlap within a command (the sweep core) says so here.
+  virtual std::optional<long> command_cycles_formula(long steps) const {
+    const std::optional<long> one = cycles_per_step_formula();
+    if (!one) return std::nullopt;
+    return *one * steps;
+  }
   // Waveform (rtl with Options::trace_fst): on or off for the steps that follow, and the
   // waveform's current time, to mark which steps it covers.
   virtual void set_tracing(bool /*on*/) {}

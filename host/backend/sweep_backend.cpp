@@ -119,6 +119,8 @@ class SweepBackend : public Backend {
             {"lanes", shape_.lanes},
             {"lanes_used", image_.lanes_used},
             {"cycles_per_step_formula", image_.cycles_per_step},
+            // Steps of one command start this many clocks apart (0: after the last one's force).
+            {"period", image_.period},
             {"index_offsets", offsets},
             {"edge_classes", image_.class_len.size()},
             {"mass_classes", image_.mass_minv.size()},
@@ -128,6 +130,11 @@ class SweepBackend : public Backend {
   std::optional<long> cycles_per_step_formula() const override {
     if (!loaded_) return std::nullopt;
     return image_.cycles_per_step;
+  }
+
+  std::optional<long> command_cycles_formula(long steps) const override {
+    if (!loaded_) return std::nullopt;
+    return hls::sweep_command_cycles(image_.cycles_per_step, image_.period, steps);
   }
 
   std::optional<CoreClock> clock() override {

@@ -110,11 +110,13 @@ void run(const CosimArgs& args) {
   }
   j["cycles_per_step_measured"] = r.cycles_per_step_measured;
   j["cycles_per_step_formula"] = r.cycles_per_step_formula;
+  j["cycles_per_step_expected"] = r.cycles_per_step_expected;
   const hls::EdgeElement* element = hls::find_edge_element(r.element);
   if (sweep) {
     j["cycles_per_step_formula_text"] =
         "max over lanes of (start delay + slots) + " + std::to_string(hls::kSweepDrainCycles) +
-        "; slots = max(1, cross edges) per ghost particle + max(2, own edges) per own particle";
+        "; slots = max(1, cross edges) per ghost particle + max(2, own edges) per own particle"
+        "; a run command of n steps: (n - 1) x period + one step (period: host/driver/sweep_overlap)";
     j["sweep_core"] = r.dut_description;
   } else {
     j["cycles_per_step_formula_text"] =
@@ -174,7 +176,12 @@ void run(const CosimArgs& args) {
                           std::to_string(r.median_tool_force_err_rel) + ")")
             << "\n"
             << "  cycles per step: measured " << r.cycles_per_step_measured << ", formula "
-            << r.cycles_per_step_formula << "; Verilator " << r.sim_cycles_per_s << " cycles/s\n"
+            << r.cycles_per_step_formula
+            << (r.cycles_per_step_expected != double(r.cycles_per_step_formula)
+                    ? " alone, " + std::to_string(r.cycles_per_step_expected) +
+                          " over these commands (steps overlap)"
+                    : std::string())
+            << "; Verilator " << r.sim_cycles_per_s << " cycles/s\n"
             << "  particle state compared every " << r.compare_every << " step(s)"
             << (opt.compare_every == 0
                     ? " (automatic: a read-back takes " + std::to_string(r.readback_cycles) +

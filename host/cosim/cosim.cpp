@@ -108,6 +108,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     return c ? c->sim_cycles : 0;
   };
   res.compare_every = automatic ? 1 : opt.compare_every;
+  long expected_cycles = 0;  // by the formula, over the run commands below
   while (step < opt.steps) {
     const long batch = std::min<long>(res.compare_every, opt.steps - step);
     const std::uint64_t before_run = automatic ? sim_cycles_now() : 0;
@@ -130,6 +131,8 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     const std::vector<double> f_golden = run(*golden, r_golden);
     const std::uint64_t batch_start = dut->trace_time();
     const std::vector<double> f_dut = run(*dut, r_dut);
+    expected_cycles +=
+        dut->command_cycles_formula(batch).value_or(batch * res.cycles_per_step_formula);
     if (traced) res.traced.push_back({step + 1, batch, batch_start, dut->trace_time()});
     const std::vector<double> f_ref = ref ? run(*ref, r_ref) : std::vector<double>{};
     for (long b = 0; b < batch; ++b) {
@@ -186,6 +189,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     if (res.mismatches > 0) break;
   }
   res.steps = step;
+  res.cycles_per_step_expected = double(expected_cycles) / double(std::max<long>(step, 1));
   if (sq_count > 0) res.rms_pos_err_rel = std::sqrt(sq_sum / double(sq_count));
   if (ref) {
     double fmax = 0.0, emax = 0.0;

@@ -59,7 +59,10 @@ struct CosimResult {
   double max_force_err_rel = 0.0;  // max |F_fixed - F_ref| / max |F_ref|
   double max_force_ref_N = 0.0;
   double cycles_per_step_measured = 0.0;
-  long cycles_per_step_formula = 0;
+  long cycles_per_step_formula = 0;   // one step alone
+  // By the formula over the run commands of this cosimulation (their steps may overlap:
+  // the sweep core's period); equal to cycles_per_step_formula where they cannot.
+  double cycles_per_step_expected = 0.0;
   double sim_cycles_per_s = 0.0;
   std::uint64_t sim_cycles = 0;
   int compare_every = 1;              // the K the run used (chosen, with compare_every = 0)

@@ -84,6 +84,8 @@ const std::vector<Group> kTraceGroups = {
          {"u_ctrl.base_q", Show::kUnsigned, Expect::kAny, "base_q"},
          {"u_ctrl.drain_q", Show::kUnsigned, Expect::kAny, "drain_q"},
          {"u_ctrl.count_q", Show::kUnsigned, Expect::kAny, "count_q"},
+         {"u_ctrl.ahead_q", Show::kBit, Expect::kAny, "ahead_q (next step gone ahead)"},
+         {"u_ctrl.mixed_q", Show::kBit, Expect::kAny, "mixed_q (two steps in the lanes)"},
          {"u_ctrl.edge_rows_q", Show::kUnsigned, Expect::kAny, "edge_rows_q"},
          {"u_ctrl.num_particles_q", Show::kUnsigned, Expect::kAny, "num_particles_q"},
          {"plate_z_q", Show::kPosition, Expect::kWord, "plate_z_q"},

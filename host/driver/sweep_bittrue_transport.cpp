@@ -85,6 +85,9 @@ void SweepBitTrueTransport::write_word(std::uint32_t region, std::uint32_t index
           hls::write_control(m.globals, w & frame::kControlFloor, w & frame::kControlPlate,
                              w & frame::kControlPlateHold);
           break;
+        case frame::kGlobalSweepPeriod:
+          m.period = w & frame::kCountMask;
+          break;
         default:
           m.status |= hls::kStatusBadCommand;
       }
@@ -248,8 +251,10 @@ void SweepBitTrueTransport::process() {
       in_.pop_front();
       const std::int64_t plate_force = hls::sweep_step<Fmt>(m);
       out_.push_back(static_cast<std::uint32_t>(plate_force));
-      cycles_ += static_cast<std::uint32_t>(hls::sweep_cycles(m));
-      if (count > 1) in_.push_front(frame::header(frame::kOpRun, frame::kRegionGlobals, count - 1));
+      // A step that follows another of its command starts the period after it.
+      cycles_ += static_cast<std::uint32_t>(continued_ ? hls::sweep_period(m) : hls::sweep_cycles(m));
+      continued_ = count > 1;
+      if (continued_) in_.push_front(frame::header(frame::kOpRun, frame::kRegionGlobals, count - 1));
     } else if (op == frame::kOpStatus) {
       in_.pop_front();
       out_.push_back(m.status);

@@ -39,6 +39,7 @@ class SweepBitTrueTransport : public Transport {
   std::uint32_t d_word_ = 0;  // a SweepEdge entry's first word, until its tag arrives
   std::uint32_t lane_words_[3] = {};  // a SweepLane entry's first words, until its last
   std::uint32_t cycles_ = 0;
+  bool continued_ = false;  // the next run step follows another of its command
 };
 
 }  // namespace rheo::driver

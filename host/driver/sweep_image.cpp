@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "hls/frame_format.hpp"
+#include "host/driver/sweep_overlap.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::driver {
@@ -408,6 +409,8 @@ SweepImage make_sweep_image(const Model& model_in, const State& state, double dt
     }
   }
   img.cycles_per_step = plan.clocks;
+  const SweepOverlap overlap = sweep_overlap(img);
+  img.period = overlap.period < img.cycles_per_step ? overlap.period : 0;
   return img;
 }
 
@@ -436,6 +439,8 @@ std::vector<std::uint32_t> sweep_frames(const SweepImage& img) {
   // Globals: the edge-rows register is rheo_core's (0 here).
   std::vector<std::uint32_t> g = globals_words(b);
   g[frame::kGlobalEdgeRows] = 0;
+  static_assert(frame::kGlobalSweepPeriod == frame::kNumGlobals, "the period follows every core's globals");
+  g.push_back(std::uint32_t(img.period));
   append_write(out, frame::kRegionGlobals, 0, g);
   append_write(out, frame::kRegionSweepParticle, 0, img.particle_static);
   append_write(out, frame::kRegionParticleState, 0, particle_state_words(b));
@@ -454,6 +459,7 @@ void load_sweep_memory(const SweepImage& img, hls::SweepMemory& m) {
   const CoreImage& b = img.base;
   m.lanes = std::uint32_t(img.shape.lanes);
   m.num_particles = std::uint32_t(b.num_particles);
+  m.period = std::uint32_t(img.period);
   m.globals = b.globals;
   for (std::size_t i = 0; i < b.materials.size(); ++i) m.materials[i] = b.materials[i];
   for (std::size_t c = 0; c < img.class_len.size(); ++c) {

@@ -47,7 +47,10 @@ struct SweepImage {
   std::vector<std::uint32_t> class_material;
   std::vector<hls::Coef> mass_minv;      // per mass class
   std::vector<std::uint32_t> edge_slot;  // per model edge: lane << kSweepSlotLaneShift | slot
-  long cycles_per_step = 0;              // hls::sweep_cycles
+  long cycles_per_step = 0;              // hls::sweep_cycles: one step alone
+  // The clocks from a step's start to the next one's in a command of several steps
+  // (host/driver/sweep_overlap.hpp; frame::kGlobalSweepPeriod); 0 when they cannot overlap.
+  long period = 0;
 };
 
 // The model with every edge running from its lower to its higher particle (an edge's

@@ -42,7 +42,7 @@ struct Timeline {
   // Per lane, accesses whose clock the RTL cannot move.
   std::vector<std::vector<long>> ghost_read, queue_read, push, start_read, mpm_out;
   long stream = 0, stream_lane = 0;  // the longest lane: lead + delay + slots
-  long first_mpm = LONG_MAX, last_mpm = LONG_MIN;
+  long first_done = LONG_MAX;  // the first own particle's sums complete (its MPM path begins)
 };
 
 long long word_key(int mem, int lane, long addr) {
@@ -115,8 +115,7 @@ Timeline step_timeline(const SweepImage& img) {
       tl.queue_read[j].push_back(last + kQueueRead);
       tl.mpm_out[j].push_back(last + kMpmOut);
       touch(kXp, j, local, last + kWriteBack);
-      tl.first_mpm = std::min(tl.first_mpm, last + kMpmOut);
-      tl.last_mpm = std::max(tl.last_mpm, last + kMpmOut);
+      tl.first_done = std::min(tl.first_done, last + kDone);
       t += n;
     }
     if (t != l.slots) {
@@ -211,10 +210,12 @@ SweepOverlap sweep_overlap(const SweepImage& img, int queue_head) {
       worst = key;
     }
   }
-  // The MPMs of two steps do not mix: the plate word and the sum of plate forces are per step.
-  const long mpm_bound = tl.first_mpm == LONG_MAX
-                             ? 0
-                             : tl.last_mpm - tl.first_mpm + hls::kSweepPlateTreeLevels + 2;
+  // The MPMs of two steps do not mix: a step's plate word reaches the MPMs, its plate sum
+  // starts and the lanes' done counts restart when the last step's force is latched, in
+  // that step's clock cycles_per_step - 1 (rtl/rheo_sweep_ctrl.sv); the next step's first
+  // particle enters its MPM path (sums read, then the MPM) after it.
+  const long mpm_bound =
+      tl.first_done == LONG_MAX ? 0 : img.cycles_per_step - tl.first_done;
   std::string& hazard = r.hazard;
   if (r.hazard_bound > 0) {
     const int mem = int(worst >> 32) / hls::kSweepMaxLanes;
@@ -224,7 +225,7 @@ SweepOverlap sweep_overlap(const SweepImage& img, int queue_head) {
   }
   if (mpm_bound > r.hazard_bound) {
     r.hazard_bound = mpm_bound;
-    hazard = "the MPMs of two steps (plate word and plate force per step)";
+    hazard = "the MPMs of two steps (a step's plate word and sums begin at the last one's force)";
   }
   const long lower = std::max(r.stream_bound, r.hazard_bound);
   r.binding = r.stream_bound >= r.hazard_bound

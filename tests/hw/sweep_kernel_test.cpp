@@ -208,7 +208,11 @@ TEST(SweepKernel, FramesThroughTheTransportEqualRheoCoresWords) {
   const CoreStatus status = sweep.read_status(false);
   EXPECT_TRUE(status.sweep);
   EXPECT_EQ(status.lanes, 5u);
-  EXPECT_EQ(long(status.cycles), 300 * img.cycles_per_step);
+  // One command of 300 steps: each after the first starts the image's period after the last.
+  ASSERT_GT(img.period, 0);
+  ASSERT_LT(img.period, img.cycles_per_step);
+  EXPECT_EQ(long(status.cycles), 299 * img.period + img.cycles_per_step);
+  EXPECT_EQ(long(status.cycles), hls::sweep_command_cycles(img.cycles_per_step, img.period, 300));
   // A particle beyond every slab, and a Voigt length without its tag, are bad commands.
   EXPECT_THROW(sweep.load_frames({frame::header(frame::kOpWrite, frame::kRegionEdgeLength, 1), 0u, 5u}, 5, true), Error);
 }
