@@ -136,6 +136,10 @@ module rheo_sweep_ctrl #(
   logic next_valid_q, next_valid_d, ahead_q, ahead_d, mixed_q, mixed_d;
   logic [W-1:0] next_word_q, next_word_d, ahead_word_q, ahead_word_d;
   logic take_next, go_ahead, step_end;
+  // Registered a clock ahead, so that neither a count compare nor the period's compare sits
+  // before the input's ready or the lanes' go: the command has words after the steps gone
+  // (count > 1 + ahead), and the next clock is the period after the last go.
+  logic take_more_q, at_period_q;
 
   logic [OpW-1:0] hdr_opcode;
   logic [RegionW-1:0] hdr_region;
@@ -148,7 +152,7 @@ module rheo_sweep_ctrl #(
   logic in_fire, out_fire;
   // The next plate word of a run command is taken while a step runs.
   assign take_next = (state_q == StRun || state_q == StDrain || state_q == StForceOut) &&
-                     !next_valid_q && count_q > IdxCountW'(1) + IdxCountW'(ahead_q);
+                     !next_valid_q && take_more_q;
   assign s_axis_tready = (state_q == StIdle) || (state_q == StWStart) || (state_q == StWData) ||
                          (state_q == StRStart) || (state_q == StRunPlate && !next_valid_q) ||
                          take_next;
@@ -272,7 +276,7 @@ module rheo_sweep_ctrl #(
   assign zbt_addr_o = index_q[NW:0];
   assign zbt_wdata_o = {s_axis_tdata[rheo_consts_pkg::SweepClassBits:0], xp_buf_q[W-1:0]};
   assign go_ahead = (state_q == StRun || state_q == StDrain) && !ahead_q && next_valid_q &&
-                    period_q != '0 && since_go_q == period_q;
+                    at_period_q;
   assign go_o = (state_q == StRunPlate && (in_fire || next_valid_q)) || go_ahead;
   assign step_end = state_q == StDrain && wait_q == '0;
   assign step_end_o = step_end;
@@ -675,6 +679,8 @@ module rheo_sweep_ctrl #(
       ahead_q <= 1'b0;
       ahead_word_q <= '0;
       mixed_q <= 1'b0;
+      take_more_q <= 1'b0;
+      at_period_q <= 1'b0;
     end else begin
       state_q <= state_d;
       reading_q <= reading_d;
@@ -719,6 +725,8 @@ module rheo_sweep_ctrl #(
       ahead_q <= ahead_d;
       ahead_word_q <= ahead_word_d;
       mixed_q <= mixed_d;
+      take_more_q <= count_d > IdxCountW'(1) + IdxCountW'(ahead_d);
+      at_period_q <= period_d != '0 && since_go_d == period_d;
     end
   end
 endmodule

@@ -311,7 +311,9 @@ json sweep_core_section(const Resources& built, const synth::SweepBuild& build, 
     row.update({{"lanes_used", s.lanes_used},
                 {"slabs", s.lanes},
                 {"cycles_per_step", s.cycles_per_step},
+                {"period_cycles", s.period},
                 {"estimated_us_per_step", s.us_per_step},
+                {"estimated_us_one_step_alone", s.us_alone},
                 {"estimated_us_per_step_range", {s.us_fast, s.us_slow}},
                 {"edge_updates_per_s", s.edge_updates_per_s},
                 {"fraction_of_multiplier_peak",
@@ -319,9 +321,12 @@ json sweep_core_section(const Resources& built, const synth::SweepBuild& build, 
     if (name == std::string(kPaperFpgaModel))
       row["speedup_vs_paper_fpga"] = kPaperFpgaStepMs * 1e3 / s.us_per_step;
     std::cout << "perf: " << name << " on the sweep core: " << (feasible ? "" : "NOT feasible, ")
-              << "L=" << s.lanes_used << " cycles=" << s.cycles_per_step << " -> "
-              << std::setprecision(3) << s.us_per_step << " us/step (" << s.us_fast << "-"
-              << s.us_slow << " over the delay corners)";
+              << "L=" << s.lanes_used << " cycles=" << s.cycles_per_step;
+    if (s.period > 0) std::cout << " alone, " << s.period << " apart in a command of many";
+    std::cout << " -> " << std::setprecision(3) << s.us_per_step << " us/step (" << s.us_fast
+              << "-" << s.us_slow << " over the delay corners";
+    if (s.period > 0) std::cout << "; one step alone " << s.us_alone << " us";
+    std::cout << ")";
     if (peak_edges_per_s > 0)
       std::cout << ", " << std::setprecision(3) << 100.0 * s.fraction_of_multiplier_peak
                 << " % of the multiplier peak";

@@ -58,6 +58,7 @@ SweepScenario sweep_scenario(const std::string& name, const SweepBuild& build, d
     s.fits_build = true;
     s.lanes_used = img.lanes_used;
     s.cycles_per_step = img.cycles_per_step;
+    s.period = img.period;
     for (int j = 0; j < img.lanes_used; ++j) {
       const driver::SweepLaneImage& l = img.lane[j];
       s.lanes.push_back(std::to_string(l.first) + ".." + std::to_string(l.first + l.count - 1) +
@@ -68,9 +69,11 @@ SweepScenario sweep_scenario(const std::string& name, const SweepBuild& build, d
     s.refusal = e.what();
     return s;
   }
-  s.us_per_step = double(s.cycles_per_step) / clock_mhz;
-  s.us_fast = double(s.cycles_per_step) / fast_clock_mhz;
-  s.us_slow = double(s.cycles_per_step) / slow_clock_mhz;
+  const double clocks = double(hls::sweep_period(s.cycles_per_step, s.period));
+  s.us_per_step = clocks / clock_mhz;
+  s.us_fast = clocks / fast_clock_mhz;
+  s.us_slow = clocks / slow_clock_mhz;
+  s.us_alone = double(s.cycles_per_step) / clock_mhz;
   s.edge_updates_per_s = s.edges / (s.us_per_step * 1e-6);
   s.fraction_of_multiplier_peak = peak_edges_per_s > 0 ? s.edge_updates_per_s / peak_edges_per_s : 0;
   return s;

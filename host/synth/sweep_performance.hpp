@@ -53,9 +53,13 @@ struct SweepScenario {
   bool fits_build = false;   // the image builds (slabs, ghosts, offsets, classes, SRAM depth)
   std::string refusal;       // why not, when it does not
   int lanes_used = 0;
-  long long cycles_per_step = 0;
-  double us_per_step = 0, us_fast = 0, us_slow = 0;  // at the clock; at the fastest and
-                                                     // slowest sensitivity corner
+  long long cycles_per_step = 0;  // one step alone: from its plate word to its force
+  long long period = 0;           // steps of one command start this far apart (0: alone)
+  // Per step of a command of many (the period's clocks, else a step's): at the clock; at the
+  // fastest and slowest sensitivity corner. One step alone (a command of one) takes
+  // us_alone.
+  double us_per_step = 0, us_fast = 0, us_slow = 0;
+  double us_alone = 0;
   double edge_updates_per_s = 0;
   double fraction_of_multiplier_peak = 0;
   std::vector<std::string> lanes;  // per lane: "first..last (ghost g, delay d): slots s"

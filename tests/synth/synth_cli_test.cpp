@@ -76,6 +76,11 @@ TEST(SynthCli, TheSweepCoreBuildIsCheckedAgainstTheChipAndRefusesAModelItCannotH
       EXPECT_GT(row["cycles_per_step"].get<long>(), 1036);
       const auto& range = row["estimated_us_per_step_range"];
       EXPECT_LT(range[0].get<double>(), row["estimated_us_per_step"].get<double>());
+      // Steps of a command overlap: the next starts after the stream, not after the drain.
+      EXPECT_GT(row["period_cycles"].get<long>(), 1036);
+      EXPECT_LT(row["period_cycles"].get<long>(), row["cycles_per_step"].get<long>());
+      EXPECT_LT(row["estimated_us_per_step"].get<double>(),
+                row["estimated_us_one_step_alone"].get<double>());
     } else {
       EXPECT_EQ(name, "block15");
       EXPECT_FALSE(row["feasible_on_one_xc2v6000"].get<bool>());
