@@ -132,14 +132,16 @@ module rheo_sweep_ctrl #(
   // Overlapped steps: the period, clocks since the last go, the next plate word taken ahead
   // (next_*), the step gone ahead and its plate word (ahead_*), two steps in the lanes.
   localparam int PeriodW = IdxCountW;
-  logic [PeriodW-1:0] period_q, period_d, since_go_q, since_go_d;
+  logic [PeriodW-1:0] period_q, period_d, period_m1_q, period_m1_d, since_go_q, since_go_d;
+  logic [IdxCountW-1:0] words_left_q, words_left_d;  // the run command's words not yet taken
   logic next_valid_q, next_valid_d, ahead_q, ahead_d, mixed_q, mixed_d;
   logic [W-1:0] next_word_q, next_word_d, ahead_word_q, ahead_word_d;
   logic take_next, go_ahead, step_end;
-  // Registered a clock ahead, so that neither a count compare nor the period's compare sits
-  // before the input's ready or the lanes' go: the command has words after the steps gone
-  // (count > 1 + ahead), and the next clock is the period after the last go.
-  logic take_more_q, at_period_q;
+  // Registered, so that no count compare sits before the input's ready or the lanes' go:
+  // the command has words left to take; a period is set; this clock is the period after the
+  // last go (once per go: the counter wraps after 2^24 clocks).
+  logic more_q, more_d, period_nz_q, period_nz_d, at_period_q, at_period_d, passed_q, passed_d;
+  logic word_taken;
 
   logic [OpW-1:0] hdr_opcode;
   logic [RegionW-1:0] hdr_region;
@@ -152,7 +154,7 @@ module rheo_sweep_ctrl #(
   logic in_fire, out_fire;
   // The next plate word of a run command is taken while a step runs.
   assign take_next = (state_q == StRun || state_q == StDrain || state_q == StForceOut) &&
-                     !next_valid_q && take_more_q;
+                     !next_valid_q && more_q;
   assign s_axis_tready = (state_q == StIdle) || (state_q == StWStart) || (state_q == StWData) ||
                          (state_q == StRStart) || (state_q == StRunPlate && !next_valid_q) ||
                          take_next;
@@ -278,6 +280,7 @@ module rheo_sweep_ctrl #(
   assign go_ahead = (state_q == StRun || state_q == StDrain) && !ahead_q && next_valid_q &&
                     at_period_q;
   assign go_o = (state_q == StRunPlate && (in_fire || next_valid_q)) || go_ahead;
+  assign word_taken = in_fire && (state_q == StRunPlate || take_next);
   assign step_end = state_q == StDrain && wait_q == '0;
   assign step_end_o = step_end;
   assign mixed_o = mixed_q || go_ahead;
@@ -382,7 +385,17 @@ module rheo_sweep_ctrl #(
     status_d = status_q | lane_flags_i;
     cycle_count_d = (busy_o || go_o) ? cycle_count_q + 32'd1 : cycle_count_q;
     period_d = period_q;
-    since_go_d = go_o ? PeriodW'(1) : since_go_q + PeriodW'(since_go_q != '1);
+    period_m1_d = period_m1_q;
+    period_nz_d = period_nz_q;
+    since_go_d = go_o ? PeriodW'(1) : since_go_q + PeriodW'(1);
+    at_period_d = !go_o && period_nz_q && !passed_q && !at_period_q && since_go_q == period_m1_q;
+    passed_d = !go_o && (passed_q || at_period_q);
+    words_left_d = words_left_q;
+    more_d = more_q;
+    if (word_taken) begin
+      words_left_d = words_left_q - IdxCountW'(1);
+      more_d = words_left_q != IdxCountW'(1);
+    end
     next_valid_d = next_valid_q;
     next_word_d = next_word_q;
     ahead_d = ahead_q;
@@ -421,6 +434,8 @@ module rheo_sweep_ctrl #(
             end
             OpW'(rheo_consts_pkg::OpRun): begin
               if (hdr_count != 0) state_d = StRunPlate;
+              words_left_d = hdr_count;
+              more_d = hdr_count != 0;
             end
             OpW'(rheo_consts_pkg::OpStatus): begin
               clear_d = hdr_count[rheo_consts_pkg::StatusClearBit];
@@ -479,7 +494,11 @@ module rheo_sweep_ctrl #(
               IdxCountW'(rheo_consts_pkg::GlobalGravityX): gravity_d[0*W +: W] = s_axis_tdata;
               IdxCountW'(rheo_consts_pkg::GlobalGravityY): gravity_d[1*W +: W] = s_axis_tdata;
               IdxCountW'(rheo_consts_pkg::GlobalGravityZ): gravity_d[2*W +: W] = s_axis_tdata;
-              IdxCountW'(rheo_consts_pkg::GlobalSweepPeriod): period_d = s_axis_tdata[PeriodW-1:0];
+              IdxCountW'(rheo_consts_pkg::GlobalSweepPeriod): begin
+                period_d = s_axis_tdata[PeriodW-1:0];
+                period_m1_d = s_axis_tdata[PeriodW-1:0] - PeriodW'(1);
+                period_nz_d = s_axis_tdata[PeriodW-1:0] != '0;
+              end
               IdxCountW'(rheo_consts_pkg::GlobalControl): begin
                 floor_en_d = s_axis_tdata[rheo_consts_pkg::ControlFloorBit];
                 plate_en_d = s_axis_tdata[rheo_consts_pkg::ControlPlateBit];
@@ -679,8 +698,12 @@ module rheo_sweep_ctrl #(
       ahead_q <= 1'b0;
       ahead_word_q <= '0;
       mixed_q <= 1'b0;
-      take_more_q <= 1'b0;
+      period_m1_q <= '0;
+      period_nz_q <= 1'b0;
+      words_left_q <= '0;
+      more_q <= 1'b0;
       at_period_q <= 1'b0;
+      passed_q <= 1'b0;
     end else begin
       state_q <= state_d;
       reading_q <= reading_d;
@@ -725,8 +748,12 @@ module rheo_sweep_ctrl #(
       ahead_q <= ahead_d;
       ahead_word_q <= ahead_word_d;
       mixed_q <= mixed_d;
-      take_more_q <= count_d > IdxCountW'(1) + IdxCountW'(ahead_d);
-      at_period_q <= period_d != '0 && since_go_d == period_d;
+      period_m1_q <= period_m1_d;
+      period_nz_q <= period_nz_d;
+      words_left_q <= words_left_d;
+      more_q <= more_d;
+      at_period_q <= at_period_d;
+      passed_q <= passed_d;
     end
   end
 endmodule

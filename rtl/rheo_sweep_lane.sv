@@ -576,6 +576,10 @@ module rheo_sweep_lane #(
   logic [SAW:0] written_q, ended_q, wb_done_q;
   logic [GAW:0] xread_q, xdone_q, gxw_q, gsr_q;
   logic newer_q, newer_rd_q, newer_rd, newer_out_q, g1_restart_q, wb_write, gs_read, p3_restart;
+  // A ghost-copy write and a ghost-sum read are counted a clock after they happen (their
+  // decisions end in compares; the count's adder is then a clock of its own): the lane
+  // above's checks see them a clock late, which host/driver/sweep_overlap.cpp allows for.
+  logic gxw_count_q, gsr_count_q;
   assign p3_restart = p3_q[PSlot] && p3_q[PStepFirst];
   assign newer_rd = newer_rd_q || (p3_restart && newer_q);
   assign wb_write = !idle_i && wb_q && !start_rd;
@@ -612,12 +616,16 @@ module rheo_sweep_lane #(
       gxw_q <= '0;
       gsr_q <= '0;
       newer_q <= 1'b0;
+      gxw_count_q <= 1'b0;
+      gsr_count_q <= 1'b0;
       newer_rd_q <= 1'b0;
       newer_out_q <= 1'b0;
       g1_restart_q <= 1'b0;
     end else begin
       g1_q <= u_slot && u_last;
       g1_restart_q <= u_restart;
+      gxw_count_q <= gxo_we_o && !step_end_i;
+      gsr_count_q <= gs_read && !step_end_i;
       m2_q <= own_end;
       m3_q <= m2_q;
       m4_q <= m3_q;
@@ -664,8 +672,8 @@ module rheo_sweep_lane #(
         written_q <= written_q + (SAW+1)'(mpm_valid);
         wb_done_q <= wb_done_q + (SAW+1)'(wb_write);
         done_o <= (written_q + (SAW+1)'(mpm_valid)) == count_i;
-        gxw_q <= gxw_q + (GAW+1)'(gxo_we_o);
-        gsr_q <= gsr_q + (GAW+1)'(gs_read);
+        gxw_q <= gxw_q + (GAW+1)'(gxw_count_q);
+        gsr_q <= gsr_q + (GAW+1)'(gsr_count_q);
       end
       // Ghosts read and ghost sums written, from the step's first slot (at the reads, at
       // the TEM's output): the last step's slots may still be on their way after a go.
@@ -707,8 +715,19 @@ module rheo_sweep_lane #(
   // Window), if it has one.
   logic [SAW:0] need_e;
   logic e_used;
-  assign e_used = count_i > (SAW+1)'(u_e);
-  assign need_e = {(SAW+1-WAW)'((count_i - 1'b1 - (SAW+1)'(u_e)) >> WAW), u_e};
+  if (SAW + 1 > WAW) begin : g_window_alias
+    assign e_used = count_i > (SAW+1)'(u_e);
+    assign need_e = {(SAW+1-WAW)'((count_i - 1'b1 - (SAW+1)'(u_e)) >> WAW), u_e};
+  end else begin : g_window_whole  // a window as deep as the slab: one particle per entry
+    logic unused_e_hi;
+    if (WAW > SAW) begin : g_hi
+      assign unused_e_hi = ^u_e[WAW-1:SAW];
+    end else begin : g_no_hi
+      assign unused_e_hi = 1'b0;
+    end
+    assign e_used = 1'b1;
+    assign need_e = {1'b0, u_e[SAW-1:0]};
+  end
   logic [12:0] conflict_q;
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) conflict_q <= '0;

@@ -109,8 +109,10 @@ Timeline step_timeline(const SweepImage& img) {
       if (hls::SweepStatic::unpack(img.particle_static[s]).has_in)
         touch(kWindow, j, local % hls::kSweepWindow, last + kDone);
       if (s >= above_from) {
-        touch(kGhostSum, j + 1, s - above_from, last + kDone);
-        touch(kGhostCopy, j + 1, s - above_from, last + kMpmOut);
+        // The lane counts these a clock later (rtl/rheo_sweep_lane.sv), and the sum's read
+        // data is registered then: the next step's write must come after that clock.
+        touch(kGhostSum, j + 1, s - above_from, last + kDone + 1);
+        touch(kGhostCopy, j + 1, s - above_from, last + kMpmOut + 1);
       }
       tl.queue_read[j].push_back(last + kQueueRead);
       tl.mpm_out[j].push_back(last + kMpmOut);
