@@ -1,5 +1,8 @@
-// Pipelined steps on the sweep core: how soon the next step could start (analysis for the
-// design in docs/synthesis.md §8; the core as built runs one step after the other).
+// Overlapped steps on the sweep core: how soon the next step of a command may start
+// (docs/sweep_core.md, "Steps of one command overlap"). make_sweep_image puts the result in
+// the image's period, which the host writes to the core (global SweepPeriod) and the
+// controller keeps to exactly; the lanes check every hazard below and flag a period that
+// breaks one.
 //
 // The core's timing is fixed by the image: every lane issues one slot per clock from its
 // start delay on, and every access a slot makes (SRAM word, x/p reads, ghost copy, sums,
@@ -35,8 +38,9 @@ struct SweepOverlap {
 
 // The least start-to-start period of steps on the sweep core for this image, and why.
 // queue_head: how many of the MPM queue's next entries the lane reads ahead into registers
-// whenever the ghost memory's port A is free. 0 is the core as built (read at the MPM's
-// clock, where the next step's ghost reads can meet it); the design reads two ahead.
+// whenever the ghost memory's port A is free: two in the core (rtl/rheo_sweep_lane.sv);
+// 0 is a lane that reads the queue at the MPM's clock, where the next step's ghost reads
+// can meet it (the core before 2 Dec 2026; kept for the comparison in the tests).
 inline constexpr int kSweepQueueHead = 2;
 SweepOverlap sweep_overlap(const SweepImage& image, int queue_head = kSweepQueueHead);
 

@@ -1,6 +1,7 @@
-// Pipelined steps on the sweep core (host/driver/sweep_overlap.cpp): the least period at
-// which a next step could start, from every access of two steps. The core as built runs
-// one step after the other; these figures are the analysis of docs/synthesis.md §8.
+// Overlapped steps on the sweep core (host/driver/sweep_overlap.cpp): the least period at
+// which the next step of a command may start, from every access of two steps. The RTL
+// runs at this period (hw_sweep_cosim_test: bit-exact, clocks = formula, and flagged two
+// clocks below it).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -43,9 +44,9 @@ TEST(SweepOverlap, LatticesOverlapTheirStepsAtAnEvenPeriodAboveEveryBound) {
   }
 }
 
-// As built, the MPM reads its queue entry from the ghost memory's port A at a fixed clock, and
-// the next step's ghost reads meet it; reading two entries ahead whenever the port is free
-// removes every clash.
+// Reading the MPM's queue entry from the ghost memory's port A at the MPM's own clock (the
+// lane before 2 Dec 2026), the next step's ghost reads meet it; reading two entries ahead
+// whenever the port is free, as the lane does, removes every clash.
 TEST(SweepOverlap, TheQueueReadAtAFixedClockMeetsTheNextStepsGhostReads) {
   const SweepImage img = image_of(load_scenario("block5"), 5);
   const SweepOverlap fixed = sweep_overlap(img, 0);
