@@ -33,7 +33,14 @@
 // out-masks. Each lane counts the ghost particles it has read and whose sums it has
 // written; the lane below checks every ghost write and ghost sum read against them and
 // raises the schedule-conflict flag when it would come too early (the host's start delays
-// prevent it).
+// prevent it). While the next step of a command has gone ahead (mixed_i), the lane below
+// counts its ghost-copy writes and ghost-sum reads of the last step, and this lane checks
+// its newer reads and writes against them (the host's period prevents a clash,
+// host/driver/sweep_overlap.cpp).
+//
+// Steps overlap: slots of the next step may follow the last step's down this pipeline
+// (docs/sweep_core.md). Everything counted at the TEM's output restarts at a step's first
+// slot (a bit carried with it); what the MPM path counts restarts at step_end_i.
 module rheo_sweep_lane #(
   parameter int W = 32,
   parameter int CoefW = 24,
