@@ -132,7 +132,9 @@ module rheo_sweep_ctrl #(
   // Overlapped steps: the period, clocks since the last go, the next plate word taken ahead
   // (next_*), the step gone ahead and its plate word (ahead_*), two steps in the lanes.
   localparam int PeriodW = IdxCountW;
-  logic [PeriodW-1:0] period_q, period_d, period_m1_q, period_m1_d, since_go_q, since_go_d;
+  // The period is kept as period - 1 (compared with the clocks since the last go) and
+  // whether it is set.
+  logic [PeriodW-1:0] period_m1_q, period_m1_d, since_go_q, since_go_d;
   logic [IdxCountW-1:0] words_left_q, words_left_d;  // the run command's words not yet taken
   logic next_valid_q, next_valid_d, ahead_q, ahead_d, mixed_q, mixed_d;
   logic [W-1:0] next_word_q, next_word_d, ahead_word_q, ahead_word_d;
@@ -384,11 +386,10 @@ module rheo_sweep_ctrl #(
     step_count_d = step_count_q;
     status_d = status_q | lane_flags_i;
     cycle_count_d = (busy_o || go_o) ? cycle_count_q + 32'd1 : cycle_count_q;
-    period_d = period_q;
     period_m1_d = period_m1_q;
     period_nz_d = period_nz_q;
     since_go_d = go_o ? PeriodW'(1) : since_go_q + PeriodW'(1);
-    at_period_d = !go_o && period_nz_q && !passed_q && !at_period_q && since_go_q == period_m1_q;
+    at_period_d = !go_o && period_nz_q && !passed_q && since_go_q == period_m1_q;
     passed_d = !go_o && (passed_q || at_period_q);
     words_left_d = words_left_q;
     more_d = more_q;
@@ -495,7 +496,6 @@ module rheo_sweep_ctrl #(
               IdxCountW'(rheo_consts_pkg::GlobalGravityY): gravity_d[1*W +: W] = s_axis_tdata;
               IdxCountW'(rheo_consts_pkg::GlobalGravityZ): gravity_d[2*W +: W] = s_axis_tdata;
               IdxCountW'(rheo_consts_pkg::GlobalSweepPeriod): begin
-                period_d = s_axis_tdata[PeriodW-1:0];
                 period_m1_d = s_axis_tdata[PeriodW-1:0] - PeriodW'(1);
                 period_nz_d = s_axis_tdata[PeriodW-1:0] != '0;
               end
@@ -691,7 +691,6 @@ module rheo_sweep_ctrl #(
       status_q <= '0;
       step_count_q <= '0;
       cycle_count_q <= '0;
-      period_q <= '0;
       since_go_q <= '0;
       next_valid_q <= 1'b0;
       next_word_q <= '0;
@@ -741,7 +740,6 @@ module rheo_sweep_ctrl #(
       status_q <= status_d;
       step_count_q <= step_count_d;
       cycle_count_q <= cycle_count_d;
-      period_q <= period_d;
       since_go_q <= since_go_d;
       next_valid_q <= next_valid_d;
       next_word_q <= next_word_d;
