@@ -3,20 +3,14 @@
 #include <iostream>
 
 #include "host/cli/commands.hpp"
+#include "host/cli/version.hpp"
 #include "sim/error.hpp"
-
-#ifdef RHEO_HAVE_RTL
-#define RHEO_WITH_RTL_TEXT ", with the RTL model"
-#else
-#define RHEO_WITH_RTL_TEXT ", built without the RTL model"
-#endif
 
 int main(int argc, char** argv) {
   CLI::App app{
       "rheo: real-time rheological objects (three-element particle models) on a reference\n"
       "simulator, a bit-true fixed-point model and an RTL core in Verilator."};
-  app.set_version_flag("--version", std::string("rheo ") + RHEO_VERSION + " (commit " +
-                                        RHEO_GIT_DESCRIBE + (RHEO_WITH_RTL_TEXT) + ")");
+  app.set_version_flag("--version", rheo::cli::version_text());
   app.require_subcommand(1);
   rheo::cli::register_simulate(app);
   rheo::cli::register_fit(app);

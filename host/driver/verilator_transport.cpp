@@ -1,267 +1,120 @@
 #include "host/driver/verilator_transport.hpp"
 
-// Verilator's runtime headers are not written for -Wextra -Werror.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wunused-parameter"
-#include <verilated.h>
-#include <verilated_fst_c.h>
+#include <dlfcn.h>
 
-#include "Vrheo_core_arm_l1.h"
-#include "Vrheo_core_arms4_l1.h"
-#include "Vrheo_core_arms8_l1.h"
-#include "Vrheo_core_damper_arms8_l1.h"
-#include "Vrheo_core_damper_l1.h"
-#include "Vrheo_core_hardening_l1.h"
-#include "Vrheo_core_every_l1.h"
-#include "Vrheo_core_every_feature_l1.h"
-#include "Vrheo_core_volume_l1.h"
-#include "Vrheo_core_volume_l2.h"
-#include "Vrheo_core_l1.h"
-#include "Vrheo_core_l2.h"
-#include "Vrheo_core_l4.h"
-#include "Vrheo_core_xinit_l1.h"
-#include "Vrheo_core_tool_l1.h"
-#include "Vrheo_core_tool_l2.h"
-#include "Vrheo_sweep_l5.h"
-#pragma GCC diagnostic pop
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <string_view>
 
-#include <chrono>
-#include <deque>
-#include <random>
-
+#include "host/driver/core_harness.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::driver {
-
-class VerilatorTransport::Impl {
- public:
-  virtual ~Impl() = default;
-  virtual void send(const std::vector<std::uint32_t>& words) = 0;
-  virtual std::vector<std::uint32_t> receive(std::size_t n) = 0;
-  virtual std::uint64_t time() const = 0;
-  bool tracing = true;
-  std::vector<std::size_t> frame_lengths;  // completed response frames (tlast seen)
-  std::size_t open_frame = 0;              // words of the frame in progress
-  std::uint64_t cycles = 0;
-  double wall = 0.0;
-};
-
 namespace {
 
-// Clocks one verilated core variant (model type M) with stream drivers on both sides.
-template <class M>
-class Harness : public VerilatorTransport::Impl {
- public:
-  explicit Harness(const VerilatorOptions& o) : opt_(o), rng_(o.seed) {
-    ctx_ = std::make_unique<VerilatedContext>();
-    ctx_->traceEverOn(!o.trace_fst.empty());
-    // A failed assertion sets the context's error flag instead of aborting the process,
-    // so that eval() can turn it into rheo::Error.
-    ctx_->fatalOnError(false);
-    if (o.power_up_seed != 0) {
-      // Random power-up state, drawn in the model's constructor (--x-initial unique).
-      ctx_->randReset(2);
-      ctx_->randSeed(int(o.power_up_seed));
-    }
-    model_ = std::make_unique<M>(ctx_.get(), "rheo_core");
-    if (!o.trace_fst.empty()) {
-      // The power-up variant is built without tracing (rtl/CMakeLists.txt).
-      if constexpr (requires(M& m, VerilatedFstC* f) { m.trace(f, 99); }) {
-        fst_ = std::make_unique<VerilatedFstC>();
-        model_->trace(fst_.get(), 99);
-        fst_->open(o.trace_fst.c_str());
-        if (!fst_->isOpen()) throw Error("cannot open trace file " + o.trace_fst);
-      } else {
-        throw Error("RTL core: this variant is built without waveform tracing");
-      }
-    }
-    // Reset. The core's registers have asynchronous resets, which in the hardware act for
-    // as long as rst_ni is low, but a simulator only runs them on rst_ni's falling edge
-    // (or on a clock edge while it is low). A reset held low from time 0 has no falling
-    // edge, so until the first clock the registers keep their power-up values, and a
-    // random power-up state can show a word on m_axis. So rst_ni first goes high and
-    // then falls, and no handshake is driven or taken until it is released.
-    model_->clk_i = 0;
-    model_->rst_ni = 1;
-    model_->s_axis_tvalid = 0;
-    model_->s_axis_tlast = 0;
-    model_->m_axis_tready = 0;
-    eval();
-    model_->rst_ni = 0;
-    eval();
-    in_reset_ = true;
-    for (int i = 0; i < kResetClocks; ++i) tick();
-    model_->rst_ni = 1;
-    in_reset_ = false;
-    tick();
-  }
-  ~Harness() override {
-    model_->final();
-    if (fst_) fst_->close();
-  }
-
-  void send(const std::vector<std::uint32_t>& words) override {
-    in_.insert(in_.end(), words.begin(), words.end());
-    std::uint64_t idle = 0;
-    while (!in_.empty()) {
-      const std::size_t before = in_.size() + out_.size();
-      tick();
-      idle = (in_.size() + out_.size() == before) ? idle + 1 : 0;
-      if (idle > opt_.timeout_cycles) throw Error("RTL core: input not accepted (timeout)");
-    }
-  }
-
-  std::vector<std::uint32_t> receive(std::size_t n) override {
-    std::uint64_t idle = 0;
-    while (out_.size() < n) {
-      const std::size_t before = out_.size();
-      tick();
-      idle = (out_.size() == before) ? idle + 1 : 0;
-      if (idle > opt_.timeout_cycles) {
-        throw Error("RTL core: expected " + std::to_string(n) + " response words, got " +
-                    std::to_string(out_.size()) + " (timeout)");
-      }
-    }
-    std::vector<std::uint32_t> got(out_.begin(), out_.begin() + n);
-    out_.erase(out_.begin(), out_.begin() + n);
-    return got;
-  }
-
-  std::uint64_t time() const override { return ctx_->time(); }
-
- private:
-  // Evaluates the model; a failed RTL assertion ($error under --assert) ends the run.
-  void eval() {
-    model_->eval();
-    if (ctx_->gotError()) {
-      throw Error("RTL core: an assertion failed at clock " + std::to_string(cycles) +
-                  " (message above)");
-    }
-  }
-
-  // One clock: drive inputs for this cycle, sample handshakes at the rising edge.
-  void tick() {
-    const auto t0 = std::chrono::steady_clock::now();
-    // The model's runtime (assertion reports, random state) goes through the thread's
-    // context; another transport in this thread may have made its own the current one.
-    Verilated::threadContextp(ctx_.get());
-    // Idle cycles only between words: a word once offered stays offered until the core
-    // takes it (AXI4-Stream; rheo_stream_checker asserts it).
-    const bool offer = !in_reset_ && !in_.empty() &&
-                       (offered_ || !(opt_.input_idle_prob > 0 && coin(opt_.input_idle_prob)));
-    model_->s_axis_tvalid = offer;
-    model_->s_axis_tdata = offer ? in_.front() : 0;
-    model_->s_axis_tlast = offer && in_.size() == 1;
-    model_->m_axis_tready =
-        !in_reset_ && !(opt_.output_stall_prob > 0 && coin(opt_.output_stall_prob));
-    model_->clk_i = 0;
-    eval();
-    const bool in_fire = model_->s_axis_tvalid && model_->s_axis_tready;
-    const bool out_fire = model_->m_axis_tvalid && model_->m_axis_tready;
-    const std::uint32_t out_word = model_->m_axis_tdata;
-    const bool out_last = model_->m_axis_tlast;
-    if (fst_ && tracing) fst_->dump(ctx_->time());
-    ctx_->timeInc(1);
-    model_->clk_i = 1;
-    eval();
-    if (fst_ && tracing) fst_->dump(ctx_->time());
-    ctx_->timeInc(1);
-    offered_ = offer && !in_fire;
-    if (in_fire) in_.pop_front();
-    if (out_fire) {
-      out_.push_back(out_word);
-      ++open_frame;
-      if (out_last) {
-        frame_lengths.push_back(open_frame);
-        open_frame = 0;
-      }
-    }
-    ++cycles;
-    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  }
-  bool coin(double p) { return std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < p; }
-
-  static constexpr int kResetClocks = 4;
-  VerilatorOptions opt_;
-  bool in_reset_ = false;
-  bool offered_ = false;  // the word at in_.front() was offered and not yet taken
-  std::mt19937_64 rng_;
-  std::unique_ptr<VerilatedContext> ctx_;
-  std::unique_ptr<M> model_;
-  std::unique_ptr<VerilatedFstC> fst_;
-  std::deque<std::uint32_t> in_, out_;
+// The core variants rtl/CMakeLists.txt registers: plug-in name, kind (core, core+xinit or
+// sweep_tb) and RTL parameters ("Name=value" sorted by name, joined by blanks).
+struct CoreVariant {
+  std::string_view plugin, kind, params;
 };
+constexpr CoreVariant kCoreVariants[] = {
+#include "host/driver/core_variants.inc"
+};
+
+// The parameters a run needs, in the registry's form: Lanes and every non-zero parameter
+// of the edge element.
+std::string wanted_params(const VerilatorOptions& o) {
+  std::vector<std::string> p{"Lanes=" + std::to_string(o.lanes)};
+  if (!o.sweep) {
+    for (const hls::RtlParameter& r : o.element.rtl_parameters()) {
+      if (r.value != 0) p.push_back(std::string(r.name) + "=" + std::to_string(r.value));
+    }
+  }
+  std::sort(p.begin(), p.end());
+  std::string s;
+  for (const std::string& x : p) s += (s.empty() ? "" : " ") + x;
+  return s;
+}
+
+std::string wanted_kind(const VerilatorOptions& o) {
+  if (o.sweep) return "sweep_tb";
+  return o.power_up_seed != 0 ? "core+xinit" : "core";
+}
+
+std::string describe(const VerilatorOptions& o) {
+  if (o.sweep) return "the sweep core with " + std::to_string(o.lanes) + " lanes";
+  return std::string("edge element ") + std::string(o.element.name) + ", " +
+         std::to_string(o.lanes) + (o.lanes == 1 ? " lane" : " lanes") +
+         (o.power_up_seed != 0 ? ", random power-up state" : "");
+}
+
+// The registered variants of the run's kind and element (what it could have asked for).
+std::string variants_like(const VerilatorOptions& o) {
+  std::string list;
+  for (const CoreVariant& v : kCoreVariants) {
+    if (v.kind != wanted_kind(o)) continue;
+    list += (list.empty() ? "" : "; ") + std::string(v.params);
+  }
+  return list.empty() ? "none" : list;
+}
+
+// Where the plug-ins are: $RHEO_CORE_DIR, else the build's cores/ folder.
+std::filesystem::path core_dir() {
+  if (const char* d = std::getenv("RHEO_CORE_DIR"); d && *d) return d;
+  return RHEO_CORE_DIR;
+}
+
+// Loads (once per process) the plug-in `plugin` and returns its entry point. Plug-ins are
+// never unloaded: Verilator keeps per-process state that outlives a model.
+MakeCoreHarness load_plugin(const std::string& plugin) {
+  static std::mutex mutex;
+  static std::map<std::string, MakeCoreHarness> loaded;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (const auto it = loaded.find(plugin); it != loaded.end()) return it->second;
+  const std::filesystem::path file = core_dir() / (plugin + ".so");
+  if (!std::filesystem::exists(file)) {
+    throw Error("RTL core " + plugin + " is not built (no " + file.string() +
+                "): build it with `cmake --build build --target " + plugin +
+                "` (scripts/build builds every core)");
+  }
+  void* handle = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) throw Error("cannot load RTL core " + file.string() + ": " + dlerror());
+  auto make = reinterpret_cast<MakeCoreHarness>(dlsym(handle, kMakeCoreHarness));
+  if (!make) {
+    throw Error("RTL core " + file.string() + " has no entry point " + kMakeCoreHarness);
+  }
+  loaded.emplace(plugin, make);
+  return make;
+}
 
 }  // namespace
 
 VerilatorTransport::VerilatorTransport(const VerilatorOptions& o) : sweep_(o.sweep) {
-  if (o.sweep) {
-    if (o.lanes != 5 || o.power_up_seed != 0 || o.element != hls::kThreeElement)
-      throw Error("RTL sweep core: built with 5 lanes, the three-element edge and zero power-up");
-    impl_ = std::make_unique<Harness<Vrheo_sweep_l5>>(o);
-  } else if (o.power_up_seed != 0) {
-    if (o.lanes != 1 || o.element != hls::kThreeElement)
-      throw Error("RTL core with random power-up state: built for 1 lane without the arm");
-    impl_ = std::make_unique<Harness<Vrheo_core_xinit_l1>>(o);
-  } else if (o.element == hls::kThreeElementWithTool) {
-    // The tool core at one and two lanes (its units per lane).
-    if (o.lanes == 1)
-      impl_ = std::make_unique<Harness<Vrheo_core_tool_l1>>(o);
-    else if (o.lanes == 2)
-      impl_ = std::make_unique<Harness<Vrheo_core_tool_l2>>(o);
-    else
-      throw Error("RTL core with edge element " + std::string(o.element.name) +
-                  ": lanes = " + std::to_string(o.lanes) + ": built for 1 and 2 lanes");
-  } else if (o.element == hls::kThreeElementWithVolume && o.lanes == 2) {
-    // The volume core also at two lanes: its element schedule across lanes.
-    impl_ = std::make_unique<Harness<Vrheo_core_volume_l2>>(o);
-  } else if (o.element != hls::kThreeElement) {
-    // The cores with arms, the damper, hardening or volume elements are built for one
-    // lane (rtl/CMakeLists.txt; the volume core for two as well).
-    if (o.lanes != 1)
-      throw Error("RTL core with edge element " + std::string(o.element.name) +
-                  ": lanes = " + std::to_string(o.lanes) + ": built for 1 lane only");
-    if (o.element == hls::kThreeElementWithArm)
-      impl_ = std::make_unique<Harness<Vrheo_core_arm_l1>>(o);
-    else if (o.element == hls::kThreeElementWith4Arms)
-      impl_ = std::make_unique<Harness<Vrheo_core_arms4_l1>>(o);
-    else if (o.element == hls::kThreeElementWith8Arms)
-      impl_ = std::make_unique<Harness<Vrheo_core_arms8_l1>>(o);
-    else if (o.element == hls::kThreeElementWithDamper)
-      impl_ = std::make_unique<Harness<Vrheo_core_damper_l1>>(o);
-    else if (o.element == hls::kThreeElementWithDamper8Arms)
-      impl_ = std::make_unique<Harness<Vrheo_core_damper_arms8_l1>>(o);
-    else if (o.element == hls::kThreeElementWithHardening)
-      impl_ = std::make_unique<Harness<Vrheo_core_hardening_l1>>(o);
-    else if (o.element == hls::kThreeElementEveryEffect)
-      impl_ = std::make_unique<Harness<Vrheo_core_every_l1>>(o);
-    else if (o.element == hls::kThreeElementWithVolume)
-      impl_ = std::make_unique<Harness<Vrheo_core_volume_l1>>(o);
-    else if (o.element == hls::kEveryFeature)
-      impl_ = std::make_unique<Harness<Vrheo_core_every_feature_l1>>(o);
-    else
-      throw Error("RTL core with edge element " + std::string(o.element.name) + ": not built");
-  } else if (o.lanes == 1)
-    impl_ = std::make_unique<Harness<Vrheo_core_l1>>(o);
-  else if (o.lanes == 2)
-    impl_ = std::make_unique<Harness<Vrheo_core_l2>>(o);
-  else if (o.lanes == 4)
-    impl_ = std::make_unique<Harness<Vrheo_core_l4>>(o);
-  else
-    throw Error("RTL core: lanes = " + std::to_string(o.lanes) + ": built for 1, 2 and 4");
+  const std::string kind = wanted_kind(o), params = wanted_params(o);
+  const auto v = std::find_if(std::begin(kCoreVariants), std::end(kCoreVariants),
+                              [&](const CoreVariant& c) { return c.kind == kind && c.params == params; });
+  if (v == std::end(kCoreVariants)) {
+    throw Error("RTL core with " + describe(o) + ": no such core is built (" + params +
+                "); the " + kind + " variants (rtl/CMakeLists.txt): " + variants_like(o));
+  }
+  harness_.reset(load_plugin(std::string(v->plugin))(o));
 }
 VerilatorTransport::~VerilatorTransport() = default;
-void VerilatorTransport::send(const std::vector<std::uint32_t>& w) { impl_->send(w); }
-std::vector<std::uint32_t> VerilatorTransport::receive(std::size_t n) { return impl_->receive(n); }
+void VerilatorTransport::send(const std::vector<std::uint32_t>& w) { harness_->send(w); }
+std::vector<std::uint32_t> VerilatorTransport::receive(std::size_t n) {
+  return harness_->receive(n);
+}
 std::string VerilatorTransport::name() const {
   return sweep_ ? "RTL sweep core (Verilator)" : "RTL core (Verilator)";
 }
-std::uint64_t VerilatorTransport::cycles() const { return impl_->cycles; }
-std::uint64_t VerilatorTransport::trace_time() const { return impl_->time(); }
-double VerilatorTransport::wall_seconds() const { return impl_->wall; }
-void VerilatorTransport::set_tracing(bool on) { impl_->tracing = on; }
+std::uint64_t VerilatorTransport::cycles() const { return harness_->cycles; }
+std::uint64_t VerilatorTransport::trace_time() const { return harness_->time(); }
+double VerilatorTransport::wall_seconds() const { return harness_->wall; }
+void VerilatorTransport::set_tracing(bool on) { harness_->tracing = on; }
 const std::vector<std::size_t>& VerilatorTransport::output_frame_lengths() const {
-  return impl_->frame_lengths;
+  return harness_->frame_lengths;
 }
 
 }  // namespace rheo::driver

@@ -4,6 +4,10 @@
 // exercises the stream handshakes. Optionally writes an FST waveform. The cores are built
 // with --assert: a failed protocol or state check in the RTL (rtl/rheo_stream_checker.sv)
 // stops the simulation and send()/receive() throw rheo::Error.
+//
+// Each core variant (rtl/CMakeLists.txt) is a plug-in of its own, loaded when a run asks
+// for its parameters (lanes, the edge element's parts, random power-up state, the sweep
+// core); a variant that is not built is named in the error, with the target that builds it.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +36,8 @@ struct VerilatorOptions {
   std::uint64_t timeout_cycles = 2'000'000'000;  // per receive() without progress
 };
 
+class CoreHarness;
+
 class VerilatorTransport : public Transport {
  public:
   explicit VerilatorTransport(const VerilatorOptions& options);
@@ -50,11 +56,9 @@ class VerilatorTransport : public Transport {
   // low half, then its rising edge).
   std::uint64_t trace_time() const override;
 
-  class Impl;
-
  private:
   bool sweep_ = false;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<CoreHarness> harness_;
 };
 
 }  // namespace rheo::driver

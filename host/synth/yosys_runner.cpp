@@ -43,7 +43,7 @@ std::string log_tail(const std::filesystem::path& log, std::size_t lines) {
 
 YosysSetup default_setup() {
   YosysSetup setup;
-  const std::filesystem::path root = RHEO_SOURCE_DIR;
+  const std::filesystem::path root = source_tree();
   setup.script = root / "scripts" / "synth.tcl";
   setup.rtl_dir = root / "rtl";
   return setup;

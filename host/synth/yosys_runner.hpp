@@ -37,6 +37,10 @@ struct YosysSetup {
   std::filesystem::path rtl_dir;  // rtl/
 };
 
+// The source tree this binary was built from (host/synth/source_tree.cpp: the one object
+// that carries the checkout's path, so that every other one is the same in any clone).
+const char* source_tree();
+
 // Where this source tree keeps scripts/synth.tcl and rtl/ (compiled in).
 YosysSetup default_setup();
 

@@ -10,6 +10,7 @@
 
 #include "hls/fixed_format.hpp"
 #include "tests/cli/run_rheo.hpp"
+#include "tests/test_paths.hpp"
 
 namespace {
 

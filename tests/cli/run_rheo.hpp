@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <string>
+#include "tests/test_paths.hpp"
 
 namespace rheo::testing_support {
 

@@ -23,6 +23,7 @@
 #include "host/driver/fst_signals.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::driver {
 namespace {

@@ -17,6 +17,7 @@
 #include "host/driver/core_image.hpp"
 #include "host/driver/gtkw.hpp"
 #include "sim/error.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::driver {
 namespace {

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include "tests/test_paths.hpp"
 
 namespace {
 

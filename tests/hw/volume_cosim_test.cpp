@@ -14,6 +14,7 @@
 #include "host/driver/core_image.hpp"
 #include "sim/scenario.hpp"
 #include "tests/hw/cosim_effect.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::driver {
 namespace {

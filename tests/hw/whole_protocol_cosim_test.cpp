@@ -8,6 +8,7 @@
 
 #include "sim/scenario.hpp"
 #include "tests/hw/cosim_effect.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::driver {
 namespace {

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "host/identify/diagnose.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::identify {
 namespace {

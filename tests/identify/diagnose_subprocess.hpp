@@ -10,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include "tests/test_paths.hpp"
 
 namespace rheo::testing {
 

@@ -10,6 +10,7 @@
 
 #include "tests/cli/run_rheo.hpp"
 #include "tests/link/server_process.hpp"
+#include "tests/test_paths.hpp"
 
 namespace {
 

@@ -11,6 +11,7 @@
 
 #include "host/identify/diagnose.hpp"
 #include "host/identify/virtual_clay.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::identify {
 namespace {

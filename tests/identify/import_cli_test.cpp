@@ -14,6 +14,7 @@
 #include <string>
 
 #include "tests/cli/run_rheo.hpp"
+#include "tests/test_paths.hpp"
 
 namespace {
 

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "sim/error.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::identify {
 namespace {

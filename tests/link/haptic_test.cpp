@@ -17,6 +17,7 @@
 #include "host/haptic/haptic_session.hpp"
 #include "sim/error.hpp"
 #include "sim/simulator.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::haptic {
 namespace {

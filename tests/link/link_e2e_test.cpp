@@ -23,6 +23,7 @@
 #include "host/driver/link/streaming_run.hpp"
 #include "host/driver/verilator_transport.hpp"
 #include "sim/scenario.hpp"
+#include "tests/test_paths.hpp"
 
 extern char** environ;
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "sim/error.hpp"
+#include "tests/test_paths.hpp"
 
 extern char** environ;
 

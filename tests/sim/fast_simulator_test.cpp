@@ -17,6 +17,7 @@
 #include "sim/fast/fast_simulator.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo::fast {
 namespace {
