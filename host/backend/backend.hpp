@@ -82,6 +82,10 @@ class Backend {
   // The state after the last step: positions, velocities, Voigt lengths and arm extensions
   // (what the backend holds; a relaxation spectrum only where it computes one).
   virtual State state() = 0;
+  // Positions and velocities after the last step, the other fields of State left empty: what
+  // a comparison of particles needs. A core then reads back only its particle words (a
+  // core with Maxwell arms has many times more edge words than particle words).
+  virtual State particle_state() { return state(); }
   // The state after the last step where the backend keeps it in host memory in double
   // precision (the reference): no read-back from a core (the fast CPU path converts its
   // layout once after each run). nullptr where state() has to convert or read it from a

@@ -124,7 +124,7 @@ class DeviceBackend : public Backend {
     return force;
   }
 
-  State state() override {
+  State particle_state() override {
     const driver::CoreImage& img = loaded();
     State s;
     s.t = t_;
@@ -138,6 +138,12 @@ class DeviceBackend : public Backend {
         s.v[i][a] = driver::from_p_word(xp[6 * i + 3 + a], img);
       }
     }
+    return s;
+  }
+
+  State state() override {
+    const driver::CoreImage& img = loaded();
+    State s = particle_state();
     const int slots = static_cast<int>(img.edges.size());
     const std::vector<std::int32_t> d = device_->read_voigt_lengths(0, slots);
     std::vector<std::vector<std::int32_t>> m(element_.maxwell_arms);

@@ -68,9 +68,8 @@ class SweepBackend : public Backend {
     return force;
   }
 
-  State state() override {
-    const driver::SweepImage& si = loaded();
-    const driver::CoreImage& img = si.base;
+  State particle_state() override {
+    const driver::CoreImage& img = loaded().base;
     State s;
     s.t = t_;
     const int n = img.num_particles;
@@ -83,6 +82,13 @@ class SweepBackend : public Backend {
         s.v[i][a] = driver::from_p_word(xp[6 * i + 3 + a], img);
       }
     }
+    return s;
+  }
+
+  State state() override {
+    const driver::SweepImage& si = loaded();
+    const driver::CoreImage& img = si.base;
+    State s = particle_state();
     // Each lane's Voigt lengths in stream order, mapped back to the model's edges.
     std::vector<std::vector<std::int32_t>> d(si.lane.size());
     for (std::size_t j = 0; j < si.lane.size(); ++j)

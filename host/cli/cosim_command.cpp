@@ -139,6 +139,8 @@ void run(const CosimArgs& args) {
   j["dt_s"] = r.dt_s;
   j["compare_every_steps"] = r.compare_every;
   j["compare_every_automatic"] = opt.compare_every == 0;
+  // the whole state (Voigt lengths and arm extensions too) compared after the last step
+  j["final_state_words_compared"] = r.final_state_words;
   if (opt.compare_every == 0) {
     j["readback_cycles"] = r.readback_cycles;
     j["first_step_cycles"] = r.step_cycles;
@@ -188,8 +190,12 @@ void run(const CosimArgs& args) {
                           " cycles, a step " + std::to_string(r.step_cycles) +
                           "; --compare-every 1 compares every step)"
                     : std::string())
-            << (r.tool_force_fixed_N.empty() ? ", the plate force every step\n"
-                                             : ", the plate force and the tool's reaction every step\n")
+            << (r.tool_force_fixed_N.empty() ? ", the plate force every step"
+                                             : ", the plate force and the tool's reaction every step")
+            << (r.final_state_words > 0
+                    ? ", the whole state (" + std::to_string(r.final_state_words) +
+                          " values: Voigt lengths and arm extensions too) after the last step\n"
+                    : std::string("\n"))
             << "  wrote " << (fs::path(out.target()) / "cosim.json").string() << "\n";
   // The waveform comes last, so that its path is the last thing on the screen (also when
   // the run found a mismatch: that is when it is wanted).
@@ -229,10 +235,11 @@ void register_cosim(CLI::App& app) {
                   "0.8 MB per step on block5)")
       ->check(whole_number_in(0, kMaxSteps, "a number of steps (0: all)"));
   cmd->add_option("--compare-every", args->compare_every,
-                  "read back and compare the RTL particle state every K steps (the plate force "
-                  "is compared every step); 1 = every step, the full comparison; default 0 = "
+                  "read back and compare the particles' positions and velocities every K steps "
+                  "(the plate force is compared every step, the whole state with the Voigt "
+                  "lengths and arm extensions after the last step); 1 = every step; default 0 = "
                   "automatic: K = read-back cycles / one step's cycles, measured after step 1, "
-                  "so reading back costs at most as much as stepping (block15 at 4 lanes: K = 17)")
+                  "so reading back costs at most as much as stepping")
       ->check(CLI::NonNegativeNumber);
   add_output_options(cmd, args->output);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress on stderr");

@@ -27,7 +27,9 @@ std::string CosimMismatch::describe() const {
   std::ostringstream os;
   os.precision(17);
   os << "step " << step << ", ";
-  if (particle < 0)
+  if (edge >= 0)
+    os << "edge " << edge << ", " << field;
+  else if (particle < 0)
     os << (field == "plate_force" ? "plate force" : field);
   else
     os << "particle " << particle << ", field " << field;
@@ -93,10 +95,11 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   double sq_sum = 0.0;
   long sq_count = 0;
   const int np = image.num_particles;
-  auto mismatch = [&](long step, int particle, const std::string& field, double d, double g) {
+  auto mismatch = [&](long step, int particle, const std::string& field, double d, double g,
+                      int edge = -1) {
     ++res.mismatches;
     if (res.first.size() < kMaxReportedMismatches)
-      res.first.push_back({step, particle, field, d, g, opt.dut, opt.golden});
+      res.first.push_back({step, particle, field, d, g, opt.dut, opt.golden, edge});
   };
 
   const std::size_t tools = model.tools.size();
@@ -154,7 +157,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     step += batch;
     // Every particle position and velocity of the core under test against the golden core.
     const std::uint64_t after_run = automatic ? sim_cycles_now() : 0;
-    const State s_dut = dut->state();
+    const State s_dut = dut->particle_state();
     const std::uint64_t after_read = automatic ? sim_cycles_now() : 0;
     if (automatic && step == batch) {
       // The first comparison sets K from what one step and one read-back cost.
@@ -165,7 +168,7 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
             (res.readback_cycles + res.step_cycles - 1) / res.step_cycles, 1, 1u << 20));
       }
     }
-    const State s_golden = golden->state();
+    const State s_golden = golden->particle_state();
     for (int i = 0; i < np; ++i) {
       for (int f = 0; f < 6; ++f) {
         const double d = f < 3 ? s_dut.x[i][f] : s_dut.v[i][f - 3];
@@ -189,6 +192,40 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
     if (res.mismatches > 0) break;
   }
   res.steps = step;
+  if (res.mismatches == 0) {
+    // The whole state once, after the last step: every particle word again, and the Voigt
+    // lengths and the arms' extensions, which the read-backs above leave out to be fast.
+    const State f_dut = dut->state(), f_golden = golden->state();
+    auto compare_edges = [&](const std::vector<double>& d, const std::vector<double>& g,
+                             std::size_t per_edge, const std::string& field) {
+      if (d.empty() || g.empty()) return;  // a part one side does not compute (the sweep core's arms)
+      if (d.size() != g.size()) {
+        throw Error("cosim: " + res.dut_name + " and " + res.golden_name + " return " +
+                    std::to_string(d.size()) + " and " + std::to_string(g.size()) + " " +
+                    field + " values");
+      }
+      for (std::size_t k = 0; k < d.size(); ++k) {
+        if (d[k] != g[k]) {
+          mismatch(step, -1, per_edge > 1 ? field + " " + std::to_string(k % per_edge) : field,
+                   d[k], g[k], int(k / per_edge));
+        }
+      }
+      res.final_state_words += long(d.size());
+    };
+    for (int i = 0; i < np; ++i) {
+      for (int f = 0; f < 6; ++f) {
+        const double d = f < 3 ? f_dut.x[i][f] : f_dut.v[i][f - 3];
+        const double g = f < 3 ? f_golden.x[i][f] : f_golden.v[i][f - 3];
+        if (d != g) mismatch(step, i, kFieldNames[f], d, g);
+      }
+    }
+    res.final_state_words += 6L * np;
+    compare_edges(f_dut.d, f_golden.d, 1, "Voigt length d");
+    compare_edges(f_dut.m, f_golden.m, 1, "arm extension");
+    const std::size_t stride =
+        f_golden.d.empty() ? 1 : std::max<std::size_t>(1, f_golden.spectrum.size() / f_golden.d.size());
+    compare_edges(f_dut.spectrum, f_golden.spectrum, stride, "spectrum arm");
+  }
   res.cycles_per_step_expected = double(expected_cycles) / double(std::max<long>(step, 1));
   if (sq_count > 0) res.rms_pos_err_rel = std::sqrt(sq_sum / double(sq_count));
   if (ref) {

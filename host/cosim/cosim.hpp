@@ -46,6 +46,7 @@ struct CosimMismatch {
   std::string field;
   double dut = 0.0, golden = 0.0;
   std::string dut_name = "rtl", golden_name = "bittrue";
+  int edge = -1;  // the edge of a Voigt length or an arm's extension (field)
   std::string describe() const;
 };
 
@@ -66,7 +67,12 @@ struct CosimResult {
   double sim_cycles_per_s = 0.0;
   std::uint64_t sim_cycles = 0;
   int compare_every = 1;              // the K the run used (chosen, with compare_every = 0)
-  std::uint64_t readback_cycles = 0;  // automatic K: simulated cycles of one state read-back
+  // automatic K: simulated cycles of one read-back of the particles' positions and velocities
+  // (what every K-th step compares; the whole state, Voigt lengths and arm extensions too, is
+  // compared once, after the last step)
+  std::uint64_t readback_cycles = 0;
+  // Words of the whole state compared after the last step (0: the run stopped at a mismatch).
+  long final_state_words = 0;
   std::uint64_t step_cycles = 0;      // and of the first step (stream words included)
   int particles = 0, edges = 0, edge_rows = 0, lanes = 0;
   double length_unit_m = 0.0, force_unit_N = 0.0, dt_s = 0.0;

@@ -37,6 +37,8 @@ inline cosim::CosimResult expect_exact_feature_cosim(const Scenario& scenario,
   EXPECT_EQ(r.element, element.name);
   EXPECT_EQ(r.mismatches, 0) << (r.first.empty() ? "" : r.first.front().describe());
   EXPECT_EQ(r.steps, steps);
+  // After the last step the whole state, the edges' Voigt lengths and arm extensions too.
+  EXPECT_GE(r.final_state_words, 6L * r.particles + r.edges);
   EXPECT_TRUE(r.dropped_features.empty())
       << "dropped: " << (r.dropped_features.empty() ? "" : r.dropped_features.front());
   EXPECT_LE(r.max_pos_err_rel, max_pos_err_rel);

@@ -25,7 +25,8 @@ constexpr double kCycleFormulaTolerance = 0.02;
 // and p (2^-31 units) per step).
 constexpr double kMaxPositionErrorRel = 1e-3;
 // The plate-force word is compared every step; the 750 particle state words every 5th
-// step, which keeps the read-back clocks (2 per word) from dominating the test time.
+// step, which keeps the read-back clocks (3 per word) from dominating the test time; the
+// whole state after the last step.
 // `rheo cosim` chooses K automatically by default (below).
 constexpr int kCompareStateEvery = 5;
 
@@ -41,6 +42,8 @@ CosimResult expect_bit_exact(int lanes, long steps,
   EXPECT_TRUE(r.dropped_features.empty()) << r.dropped_features.front();
   EXPECT_EQ(r.mismatches, 0) << (r.first.empty() ? "" : r.first.front().describe());
   EXPECT_EQ(r.steps, steps);
+  // After the last step the whole state, the edges' Voigt lengths too.
+  EXPECT_GE(r.final_state_words, 6L * r.particles + r.edges);
   EXPECT_LE(r.max_pos_err_rel, kMaxPositionErrorRel);
   EXPECT_NEAR(r.cycles_per_step_measured, double(r.cycles_per_step_formula),
               kCycleFormulaTolerance * r.cycles_per_step_formula);
