@@ -122,6 +122,7 @@ std::string write_short_scenario(const fs::path& dir) {
   return path;
 }
 
+// Progress of a long run, one command per test (each is a minute under the sanitizers).
 TEST_F(CliRulesTest, LongRunsShowProgressWithAnEtaAndDefaultStepsCoverTheProtocol) {
   const std::string scenario = write_short_scenario(root_);
   constexpr long long kProtocolSteps = 300;
@@ -144,20 +145,28 @@ TEST_F(CliRulesTest, LongRunsShowProgressWithAnEtaAndDefaultStepsCoverTheProtoco
     EXPECT_EQ(j["steps"].get<long long>(), kProtocolSteps);
     fs::remove_all(dir);
   }
+  // --quiet silences it.
+  const auto quiet =
+      run_rheo("fixed --no-sweep -q --scenario " + scenario + " --out " + (root_ / "q").string());
+  ASSERT_EQ(quiet.status, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find("ETA"), std::string::npos) << quiet.output;
+}
+
+TEST_F(CliRulesTest, ADiagnosisShowsItsModelFitsWithAnEta) {
   const std::string data =
       std::string(RHEO_SOURCE_DIR) + "/data/clay_fast.csv --model-form column";
   const auto diagnose = run_rheo("diagnose " + data + " --out " + (root_ / "d").string());
   ASSERT_EQ(diagnose.status, 0) << diagnose.output;
   EXPECT_NE(diagnose.output.find("model fits"), std::string::npos) << diagnose.output;
   EXPECT_NE(diagnose.output.find("ETA"), std::string::npos) << diagnose.output;
+}
+
+TEST_F(CliRulesTest, AFitShowsItsSolverIterations) {
+  const std::string data =
+      std::string(RHEO_SOURCE_DIR) + "/data/clay_fast.csv --model-form column";
   const auto fit = run_rheo("fit " + data + " --out " + (root_ / "f").string());
   ASSERT_EQ(fit.status, 0) << fit.output;
   EXPECT_NE(fit.output.find("iteration"), std::string::npos) << fit.output;
-  // --quiet silences it.
-  const auto quiet =
-      run_rheo("fixed --no-sweep -q --scenario " + scenario + " --out " + (root_ / "q").string());
-  ASSERT_EQ(quiet.status, 0) << quiet.output;
-  EXPECT_EQ(quiet.output.find("ETA"), std::string::npos) << quiet.output;
 }
 
 TEST_F(CliRulesTest, VersionNamesTheProjectVersionAndCommit) {

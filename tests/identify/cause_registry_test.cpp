@@ -127,15 +127,16 @@ TEST(CauseRegistry, RunTimeRegistrationIsListedFoundAndRemoved) {
   EXPECT_EQ(registered_causes().size(), builtin_causes().size());
 }
 
+// Not registered: the diagnosis cannot name it (whatever it names instead).
+TEST(CauseRegistry, ADiagnosisCannotNameACauseThatIsNotRegistered) {
+  const Diagnosis without = diagnose(drifting_record(), {}, column_diagnosis());
+  EXPECT_NE(without.cause, kDrift);
+  EXPECT_FALSE(names_a_candidate(without, kDrift));
+}
+
 TEST(CauseRegistry, DiagnosisNamesACauseAddedThroughTheRegistryAlone) {
   const std::vector<Measurement> data = drifting_record();
   const DiagnoseOptions options = column_diagnosis();
-
-  // Not registered: the diagnosis cannot name it (whatever it names instead).
-  const Diagnosis without = diagnose(data, {}, options);
-  EXPECT_NE(without.cause, kDrift);
-  EXPECT_FALSE(names_a_candidate(without, kDrift));
-
   const ScopedCause drift(std::make_shared<SensorDrift>());
   const Diagnosis d = diagnose(data, {}, options);
   ASSERT_EQ(d.cause, kDrift) << d.evidence;

@@ -13,6 +13,7 @@
 
 #include "tests/identify/continuum_body.hpp"
 #include "tests/identify/diagnose_subprocess.hpp"
+#include "tests/identify/hidden_effect_rate.hpp"
 
 namespace rheo::testing {
 namespace {
@@ -66,8 +67,8 @@ TEST_P(ContinuumHiddenEffectTest, DiagnoseNamesTheHiddenCause) {
   const ContinuumBody body = body_for(c);
   // 1 mm of a ~10 mm block: small strain, where a linear finite-element body is valid (the
   // particle model is geometrically exact; at 20 % strain the two would differ by geometry).
-  const PlateProtocol fit_protocol{1.0, 0.25, 10.0, 0.25, 6.0, 20.0};
-  const PlateProtocol holdout_protocol{1.0, 0.1, 15.0, 0.5, 6.0, 20.0};
+  const PlateProtocol fit_protocol{1.0, 0.25, 10.0, 0.25, 6.0, kHiddenEffectRateHz};
+  const PlateProtocol holdout_protocol{1.0, 0.1, 15.0, 0.5, 6.0, kHiddenEffectRateHz};
   const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
                                     ("continuum_" + c.cause + "_" + std::to_string(c.seed));
   std::filesystem::create_directories(dir);
@@ -90,7 +91,7 @@ TEST_P(ContinuumHiddenEffectTest, DiagnoseNamesTheHiddenCause) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    EveryCause, ContinuumHiddenEffectTest,
+    RHEO_HIDDEN_EFFECT_SUITE, ContinuumHiddenEffectTest,
     ::testing::Values(Case{"none", 11}, Case{"none", 12}, Case{"second_relaxation_time", 13},
                       Case{"relaxation_spectrum", 14}, Case{"strain_hardening", 15},
                       Case{"force_dependent_damping", 16}, Case{"sensor_lag", 17},

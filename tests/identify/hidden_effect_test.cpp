@@ -11,6 +11,7 @@
 #include <string>
 
 #include "tests/identify/diagnose_subprocess.hpp"
+#include "tests/identify/hidden_effect_rate.hpp"
 #include "tests/identify/hidden_effect_generator.hpp"
 
 namespace rheo::testing {
@@ -29,8 +30,8 @@ class HiddenEffectTest : public ::testing::TestWithParam<Case> {};
 TEST_P(HiddenEffectTest, DiagnoseNamesTheHiddenCause) {
   const Case c = GetParam();
   const LumpedBody body = body_for(c.effect, c.seed);
-  const Protocol fit_protocol{2.0, 0.5, 10.0, 0.5, 6.0, 20.0};
-  const Protocol holdout_protocol{2.0, 0.2, 15.0, 1.0, 6.0, 20.0};
+  const Protocol fit_protocol{2.0, 0.5, 10.0, 0.5, 6.0, kHiddenEffectRateHz};
+  const Protocol holdout_protocol{2.0, 0.2, 15.0, 1.0, 6.0, kHiddenEffectRateHz};
   const std::filesystem::path dir =
       std::filesystem::path(::testing::TempDir()) /
       ("hidden_" + expected_cause(c.effect) + "_" + std::to_string(c.seed));
@@ -52,7 +53,7 @@ TEST_P(HiddenEffectTest, DiagnoseNamesTheHiddenCause) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    EveryCause, HiddenEffectTest,
+    RHEO_HIDDEN_EFFECT_SUITE, HiddenEffectTest,
     ::testing::Values(Case{HiddenEffect::kNone, 1}, Case{HiddenEffect::kNone, 2},
                       Case{HiddenEffect::kSecondRelaxation, 3},
                       Case{HiddenEffect::kForceDamping, 4}, Case{HiddenEffect::kHardening, 5},
