@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 
 #include "hls/edge_element.hpp"
@@ -20,7 +21,45 @@ void add_output_options(CLI::App* cmd, OutputOptions& options) {
       ->required();
   cmd->add_flag("--force,-f", options.force,
                 "replace the content of an existing non-empty --out directory (only after the "
-                "run succeeded)");
+                "run succeeded; refused when DIR holds an input of the command or the working "
+                "directory)");
+  cmd->add_option("--max-output-gb", options.max_output_gb,
+                  "largest output a run may write, in GB; a run estimated to write more is "
+                  "refused before it starts")
+      ->check(number_in(0.0, 1e6, "a size in GB", true))
+      ->capture_default_str();
+  options.command = cmd;
+}
+
+void check_output_budget(const OutputOptions& options, double estimate_bytes,
+                         const std::string& breakdown) {
+  const double budget = options.max_output_gb * 1e9;
+  if (!(estimate_bytes > budget)) return;
+  char text[200];
+  std::snprintf(text, sizeof text, "this run would write about %.3g GB, more than the %.3g GB allowed",
+                estimate_bytes / 1e9, options.max_output_gb);
+  throw Error(std::string(text) + " (" + breakdown +
+              "). Write less (see the breakdown) or raise the limit with --max-output-gb");
+}
+
+std::vector<std::string> input_paths(const OutputOptions& options) {
+  std::vector<std::string> inputs;
+  if (!options.command) return inputs;
+  for (const CLI::Option* opt : options.command->get_options()) {
+    const auto& outputs = options.output_options;
+    if (std::any_of(outputs.begin(), outputs.end(),
+                    [opt](const std::string& name) { return opt->check_name(name); }))
+      continue;
+    for (const std::string& value : opt->results()) {
+      std::error_code ec;
+      if (!value.empty() && std::filesystem::exists(value, ec)) inputs.push_back(value);
+    }
+  }
+  return inputs;
+}
+
+output::StagedDirectory stage_output(const OutputOptions& options) {
+  return output::StagedDirectory(options.out, options.force, input_paths(options));
 }
 
 void add_lanes_option(CLI::App* cmd, int& lanes, const std::string& what) {
@@ -77,6 +116,30 @@ CLI::Validator whole_number_in(long long lo, long long hi, const std::string& wh
         return {};
       },
       std::to_string(lo) + ".." + std::to_string(hi));
+}
+
+CLI::Validator number_in(double lo, double hi, const std::string& what, bool lo_open) {
+  char range[160];
+  if (std::isinf(hi)) {
+    std::snprintf(range, sizeof range, "a number %s %g", lo_open ? "greater than" : "of at least",
+                  lo);
+  } else if (lo_open) {
+    std::snprintf(range, sizeof range, "a number greater than %g and at most %g", lo, hi);
+  } else {
+    std::snprintf(range, sizeof range, "a number from %g to %g", lo, hi);
+  }
+  const std::string words = range;
+  return CLI::Validator(
+      [lo, hi, lo_open, what, words](std::string& text) -> std::string {
+        double v = 0.0;
+        const bool hex = text.find_first_of("xX") != std::string::npos;
+        if (hex || !CLI::detail::lexical_cast(text, v) || !std::isfinite(v) ||
+            (lo_open ? v <= lo : v < lo) || v > hi) {
+          return text + ": expected " + what + ", " + words;
+        }
+        return {};
+      },
+      words);
 }
 
 CLI::Option* add_steps_option(CLI::App* cmd, std::optional<long long>& steps,

@@ -9,18 +9,37 @@
 #include <optional>
 #include <string>
 
+#include "host/output/staged_directory.hpp"
 #include "sim/fast/fast_simulator.hpp"
 
 namespace rheo::cli {
 
+// What a run may write unless --max-output-gb says otherwise: more is almost always an
+// interval or a step count mistyped (a VTK frame every nanosecond), and filling the disk
+// fails other programs too.
+inline constexpr double kDefaultMaxOutputGb = 2.0;
+
 // --out DIR and --force. Every command that writes results stages them in a hidden
 // directory next to DIR and moves them into place only when the run succeeded
-// (output::StagedDirectory); an existing non-empty DIR is refused unless --force.
+// (output::StagedDirectory); an existing non-empty DIR is refused unless --force, and
+// --force is refused when DIR holds a file the command reads or the working directory.
 struct OutputOptions {
   std::string out;
   bool force = false;
+  double max_output_gb = kDefaultMaxOutputGb;       // --max-output-gb
+  CLI::App* command = nullptr;                      // set by add_output_options
+  std::vector<std::string> output_options{"--out"};  // options naming outputs, not inputs
 };
 void add_output_options(CLI::App* cmd, OutputOptions& options);
+// Every existing file or directory named on the command line, other than by an output
+// option: what the command reads, and what --force must never delete.
+std::vector<std::string> input_paths(const OutputOptions& options);
+// Refuses (rheo::Error) a run whose outputs would exceed --max-output-gb, before it starts:
+// `estimate_bytes` and `breakdown` (what makes it up, in words) say how much and why.
+void check_output_budget(const OutputOptions& options, double estimate_bytes,
+                         const std::string& breakdown);
+// The staged --out directory of a command (after its inputs were checked, before its work).
+output::StagedDirectory stage_output(const OutputOptions& options);
 
 // --lanes L: TEM/MPM lanes of the core, one of hls::kLaneCounts, default hls::kDefaultLanes.
 void add_lanes_option(CLI::App* cmd, int& lanes, const std::string& what);
@@ -45,6 +64,10 @@ inline constexpr long long kMaxSteps = 1000000000LL;
 // A validator for a whole number in [lo, hi] whose message names the option and the range
 // (CLI11's own prints both bounds as doubles).
 CLI::Validator whole_number_in(long long lo, long long hi, const std::string& what);
+// A validator for a finite decimal number in [lo, hi] ((lo, hi] when lo_open; hi may be
+// infinity: no upper limit) whose message names `what` and the range in words. Hexadecimal
+// and non-finite values are refused.
+CLI::Validator number_in(double lo, double hi, const std::string& what, bool lo_open = false);
 CLI::Option* add_steps_option(CLI::App* cmd, std::optional<long long>& steps,
                               const std::string& help);
 // Steps for a simulated duration at dt, refused (rheo::Error naming `option`) when not finite,

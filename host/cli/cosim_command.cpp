@@ -77,9 +77,14 @@ void run(const CosimArgs& args) {
   opt.trace_steps = args.trace_steps;
   opt.compare_every = args.compare_every;
   opt.element = args.element;
-  output::StagedDirectory out(args.output.out, args.output.force);
-  // A waveform named inside --out is written into the staged directory with the rest.
-  opt.trace_fst = args.trace.empty() ? "" : out.map(args.trace);
+  output::StagedDirectory out = stage_output(args.output);
+  // The waveform and its save file follow the rule of --out: inside it they are staged with
+  // the rest; elsewhere they are staged beside their place, refused if they exist (unless
+  // --force) or are an input, and moved into place with the results.
+  opt.trace_fst =
+      args.trace.empty()
+          ? ""
+          : out.stage_file(args.trace, {fs::path(args.trace).replace_extension(".gtkw").string()});
   Progress progress("step", opt.steps, progress_enabled(args.quiet));
   opt.progress = [&progress](long step) { progress.update(step); };
   const cosim::CosimResult r = cosim::run_cosim(scenario, opt);
@@ -240,8 +245,9 @@ void register_cosim(CLI::App& app) {
                   "lengths and arm extensions after the last step); 1 = every step; default 0 = "
                   "automatic: K = read-back cycles / one step's cycles, measured after step 1, "
                   "so reading back costs at most as much as stepping")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_in(0, kMaxSteps, "a step interval (0: automatic)"));
   add_output_options(cmd, args->output);
+  args->output.output_options.push_back("--trace");
   cmd->add_flag("--quiet,-q", args->quiet, "no progress on stderr");
   cmd->add_option("--backend", args->dut,
                   "the core under test, compared word for word with bittrue: rtl (default, "
@@ -252,11 +258,11 @@ void register_cosim(CLI::App& app) {
   cmd->add_option("--idle-prob", args->idle_prob,
                   "rtl: probability per clock of an idle cycle on the core's input stream "
                   "(s_axis_tvalid low), default 0")
-      ->check(CLI::Range(0.0, 0.95));
+      ->check(number_in(0.0, 0.95, "a probability per clock"));
   cmd->add_option("--stall-prob", args->stall_prob,
                   "rtl: probability per clock of back-pressure on the core's output stream "
                   "(m_axis_tready low), default 0")
-      ->check(CLI::Range(0.0, 0.95));
+      ->check(number_in(0.0, 0.95, "a probability per clock"));
   cmd->add_option("--seed", args->seed, "rtl: seed of the idle and stall patterns (default 1)");
   // auto picks the element whose core computes the scenario's edges (the Maxwell arm: the
   // three-element+arm core, 1 lane); a simpler element drops what it lacks (listed).

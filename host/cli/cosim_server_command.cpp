@@ -123,7 +123,7 @@ void register_cosim_server(CLI::App& app) {
   add_element_option(cmd, args->element, false);
   cmd->add_option("--timeout-ms", args->timeout_ms,
                   "Longest wait for a hello or for the rest of a begun frame")
-      ->check(CLI::PositiveNumber);
+      ->check(whole_number_in(1, 3'600'000, "a time in milliseconds"));
   cmd->add_option("--idle-timeout-s", args->idle_timeout_s,
                   "Close a session whose host sends nothing between frames for this many "
                   "seconds, freeing the core for the next host (default 60)")

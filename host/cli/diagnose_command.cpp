@@ -58,7 +58,8 @@ void register_diagnose(CLI::App& app) {
     for (const auto& f : args->holdout) holdout.push_back(load_any(f, import));
     for (const auto& m : fit_data) std::cout << "input " << describe_import(m);
     for (const auto& m : holdout) std::cout << "held-out input " << describe_import(m);
-    output::StagedDirectory out(args->output.out, args->output.force);
+    refuse_duplicate_records(fit_data, holdout);
+    output::StagedDirectory out = stage_output(args->output);
     DiagnoseOptions options;
     options.fit.simulation.max_dt = args->max_dt;
     options.fit.simulation.cpu = cpu_options(args->cpu);
@@ -73,13 +74,8 @@ void register_diagnose(CLI::App& app) {
       d = diagnose(fit_data, holdout, options);
     } catch (const rheo::Error& e) {
       // The explicit object model cannot run every record (a relaxation much faster than a
-      // long record needs too many steps): say so and give the column's first guess rather
-      // than nothing. The specimen model is named in every output.
-      if (options.fit.simulation.form != SpecimenForm::kObject) throw;
-      std::cerr << "warning: the object model could not fit these data (" << e.what()
-                << "); diagnosing with the 1-D column first guess instead "
-                   "(--model-form column)\n";
-      options.fit.simulation.form = SpecimenForm::kColumn;
+      // long record needs too many steps). The specimen model is named in every output.
+      column_fallback_or_throw(args->specimen, e, options.fit.simulation, "diagnoses");
       d = diagnose(fit_data, holdout, options);
     }
     progress.finish();

@@ -57,7 +57,8 @@ void register_fit(CLI::App& app) {
     std::vector<Measurement> data;
     for (const auto& f : args->files) data.push_back(load_any(f, import));
     for (const auto& m : data) std::cout << "input " << describe_import(m);
-    output::StagedDirectory out(args->output.out, args->output.force);
+    refuse_duplicate_records(data);
+    output::StagedDirectory out = stage_output(args->output);
     FitOptions options;
     options.simulation.max_dt = args->max_dt;
     options.simulation.cpu = cpu_options(args->cpu);
@@ -74,11 +75,7 @@ void register_fit(CLI::App& app) {
     try {
       r = fit_model(data, spec, {}, options);
     } catch (const rheo::Error& e) {
-      // As in diagnose: the column's first guess, said out loud, rather than nothing.
-      if (options.simulation.form != SpecimenForm::kObject) throw;
-      std::cerr << "warning: the object model could not fit these data (" << e.what()
-                << "); fitting the 1-D column first guess instead (--model-form column)\n";
-      options.simulation.form = SpecimenForm::kColumn;
+      column_fallback_or_throw(args->specimen, e, options.simulation, "fits");
       r = fit_model(data, spec, {}, options);
     }
     progress.finish();
@@ -86,8 +83,10 @@ void register_fit(CLI::App& app) {
     const std::string check_error = run_backend_checks(check_engine.get(), args->check, data, {&r},
                                                        options.simulation, out.path());
     out.commit();
-    std::cout << "model " << spec.name() << ": rmse " << r.rmse_force_N << " N, AIC " << r.aic
-              << "\n";
+    std::cout << "model " << spec.name() << ": rmse " << r.rmse_force_N << " N, R^2 "
+              << r.r_squared << ", AIC " << r.aic << "\n";
+    // Beside the intervals, what they are worth.
+    if (!r.quality_warning().empty()) std::cout << "warning: " << r.quality_warning() << "\n";
     for (const auto& e : r.estimates) {
       std::cout << "  " << e.name << " = " << e.value;
       if (e.ci_low) std::cout << "  [" << *e.ci_low << ", " << *e.ci_high << "]";

@@ -125,7 +125,7 @@ void run(const Options& opt) {
     }
   }
   const long long steps = opt.steps ? *opt.steps : scenario.default_steps();
-  output::StagedDirectory staged(opt.output.out, opt.output.force);
+  output::StagedDirectory staged = stage_output(opt.output);
   fixedcmp::CompareOptions options;
   options.steps = steps;
   options.lanes = opt.lanes;

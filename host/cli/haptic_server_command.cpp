@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/driver/link/socket_transport.hpp"
 #include "host/haptic/haptic_link.hpp"
@@ -75,10 +76,10 @@ void register_haptic_server(CLI::App& app) {
                   "(bittrue, rtl, remote:PATH: one plane, sphere or cylinder; docs/haptics.md)")
       ->capture_default_str();
   cmd->add_option("--timeout-ms", args->timeout_ms, "Longest wait for a hello or a begun frame")
-      ->check(CLI::PositiveNumber);
+      ->check(whole_number_in(1, 3'600'000, "a time in milliseconds"));
   cmd->add_option("--idle-timeout-s", args->idle_timeout_s,
                   "Drop a client that sends nothing for this many seconds (default 60)")
-      ->check(CLI::Range(0.001, 86400.0));
+      ->check(number_in(0.001, 86400.0, "a time in seconds"));
   cmd->add_flag("--quiet", args->quiet, "No session log on stderr");
   cmd->callback([args] { run_haptic_server(*args); });
 }

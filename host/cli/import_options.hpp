@@ -3,12 +3,14 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <iostream>
 #include <string>
 
 #include "host/backend/backend.hpp"
 
 #include "host/identify/measurement.hpp"
 #include "host/identify/specimen.hpp"
+#include "sim/error.hpp"
 
 namespace rheo::cli {
 
@@ -40,6 +42,7 @@ inline identify::ImportOptions import_options(const std::string& geometry,
 struct SpecimenArgs {
   std::string form = "object";
   std::string mesh = "2d:auto";
+  bool column_fallback = false;  // --column-fallback
 };
 
 // --backend/--lanes of fit and diagnose: where the fitted model is run again afterwards.
@@ -70,6 +73,26 @@ inline void add_specimen_options(CLI::App* cmd, SpecimenArgs& a) {
                   "object model mesh: 2d:auto (3 layers, square cells), 2d:NXxNZ or "
                   "3d:NXxNYxNZ, optionally :truss (docs/identify.md)")
       ->capture_default_str();
+  cmd->add_flag("--column-fallback", a.column_fallback,
+                "when the object model cannot run these data, use the 1-D column first guess "
+                "instead (said in the output); without it that is an error");
+}
+
+// The object model failed on the data (`e`): an error naming the way out, unless the user
+// asked for the column's first guess (--column-fallback), which is then said out loud on
+// stderr and `o` switched to it.
+inline void column_fallback_or_throw(const SpecimenArgs& a, const rheo::Error& e,
+                                     identify::SimulationOptions& o, const std::string& doing) {
+  if (o.form != identify::SpecimenForm::kObject) throw e;
+  if (!a.column_fallback) {
+    throw rheo::Error(std::string("the object model could not run these data: ") + e.what() +
+                      ". --model-form column " + doing +
+                      " with the 1-D column first guess instead; --column-fallback does so "
+                      "whenever the object model fails");
+  }
+  std::cerr << "warning: the object model could not run these data (" << e.what() << "); "
+            << doing << " with the 1-D column first guess instead (--column-fallback)\n";
+  o.form = identify::SpecimenForm::kColumn;
 }
 
 // Applies the specimen options; throws rheo::Error on a malformed --mesh.

@@ -25,7 +25,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version end parsing too, successfully.
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);
+    // A usage error: exit 2, as command-line tools do, with the same prefix as every other
+    // error of rheo, the option and what it expects.
+    std::cerr << "rheo: error: " << e.what() << "\n"
+              << "rheo: run 'rheo --help' or 'rheo SUBCOMMAND --help' for the options\n";
+    return 2;
   } catch (const rheo::Error& e) {
     std::cerr << "rheo: error: " << e.what() << "\n";
     return 1;

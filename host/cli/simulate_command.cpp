@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <cstdio>
 #include <iostream>
@@ -49,28 +49,6 @@ struct SimulateArgs {
   int lanes = hls::kDefaultLanes;
   bool allow_dropped = false;  // run on a backend that leaves out features of the scenario
   CpuArgs cpu;                 // ref: fast or scalar CPU path
-};
-
-// Ctrl-C during a long run: finish the current step, then fail like any other error so
-// that the staged output is removed.
-volatile std::sig_atomic_t g_interrupted = 0;
-extern "C" void on_interrupt(int) { g_interrupted = 1; }
-
-class InterruptGuard {
- public:
-  InterruptGuard() {
-    g_interrupted = 0;
-    old_int_ = std::signal(SIGINT, on_interrupt);
-    old_term_ = std::signal(SIGTERM, on_interrupt);
-  }
-  ~InterruptGuard() {
-    std::signal(SIGINT, old_int_);
-    std::signal(SIGTERM, old_term_);
-  }
-
- private:
-  void (*old_int_)(int);
-  void (*old_term_)(int);
 };
 
 // The particles whose downward displacement is "the top surface at its centre" (§7):
@@ -171,7 +149,7 @@ void run_simulate(const SimulateArgs& args) {
   if (engine_info.contains("cpu_note") && args.cpu.path == "fast") {
     std::cerr << "rheo simulate: note: " << engine_info["cpu_note"].get<std::string>() << "\n";
   }
-  output::StagedDirectory out(args.output.out, args.output.force);
+  output::StagedDirectory out = stage_output(args.output);
   const std::string dir = out.path();
 
   const double run_s = steps * dt;
@@ -287,7 +265,27 @@ void run_simulate(const SimulateArgs& args) {
   write_tool_row(0);
   write_object_row(0.0, start_state);
 
-  InterruptGuard interrupt_guard;
+  {
+    // The output budget, from what the first row and frame took: every frame of the series
+    // is as large as the first, every row about as long.
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    double frame_bytes = 0.0;
+    for (const auto& e : fs::recursive_directory_iterator(fs::path(dir) / "vtk", ec))
+      if (e.is_regular_file(ec)) frame_bytes += static_cast<double>(e.file_size(ec));
+    const double frames = std::floor(run_s / vtk_interval + 1e-9) + 1.0;
+    const double rows = std::floor(run_s / csv_interval + 1e-9) + 1.0;
+    const double row_bytes = 60.0 + 170.0 * static_cast<double>(tools) +
+                             (objects > 1 ? 100.0 * objects : 0.0);
+    const double vtk_bytes = frames * frame_bytes, csv_bytes = rows * row_bytes;
+    char breakdown[300];
+    std::snprintf(breakdown, sizeof breakdown,
+                  "%.0f VTK frames of %.3g MB, one every %g s (output.vtk_interval_s), and %.0f "
+                  "CSV rows of about %.0f bytes, one every %g s (output.csv_interval_s)",
+                  frames, frame_bytes / 1e6, vtk_interval, rows, row_bytes, csv_interval);
+    check_output_budget(args.output, vtk_bytes + csv_bytes, breakdown);
+  }
+
   Progress progress("step", steps, progress_enabled(args.quiet));
   // Row and frame times are multiples of their intervals; comparing with a small slack
   // keeps rounding in i * dt from skipping one.
@@ -333,7 +331,6 @@ void run_simulate(const SimulateArgs& args) {
       vtk.write_frame(*state, plate_frame(plate_mm, force_N), tool_frames(i));
       while (next_vtk <= t + slack) next_vtk += vtk_interval;
     }
-    if (g_interrupted) throw Error("interrupted at step " + std::to_string(i) + "; no output kept");
     progress.update(i);
   };
 
@@ -448,7 +445,7 @@ void register_simulate(CLI::App& app) {
   add_output_options(cmd, args->output);
   auto* duration = cmd->add_option("--duration", args->duration_s,
                                    "simulated time [s] (default: the scenario's duration)");
-  duration->check(CLI::PositiveNumber);
+  duration->check(number_in(0.0, HUGE_VAL, "a simulated time in seconds", true));
   auto* steps = add_steps_option(cmd, args->steps, "number of time steps (default: duration / dt)");
   duration->excludes(steps);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");

@@ -348,7 +348,7 @@ void run(const Options& opt) {
   sweep_build.slab_depth = opt.sweep_build[1];
   sweep_build.ghost_depth = opt.sweep_build[2];
   sweep_build.window = opt.sweep_build[3];
-  output::StagedDirectory staged(opt.output.out, opt.output.force);
+  output::StagedDirectory staged = stage_output(opt.output);
   const fs::path out = staged.path();
   synth::YosysSetup setup = synth::default_setup();
   if (!opt.rtl_dir.empty()) setup.rtl_dir = fs::absolute(opt.rtl_dir);

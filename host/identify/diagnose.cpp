@@ -289,18 +289,6 @@ std::string remaining_misfit(const Diagnosis& d) {
 
 }  // namespace
 
-double noise_from_second_differences(const Measurement& m) {
-  if (m.size() < 3) return 0.0;
-  // Second differences are dominated by the curve at kinks (phase changes); a robust
-  // scale (median absolute value / 0.6745) ignores those few samples.
-  std::vector<double> dd;
-  for (std::size_t i = 1; i + 1 < m.size(); ++i) {
-    dd.push_back(std::abs(m.force_N[i + 1] - 2.0 * m.force_N[i] + m.force_N[i - 1]));
-  }
-  std::nth_element(dd.begin(), dd.begin() + dd.size() / 2, dd.end());
-  return dd[dd.size() / 2] / 0.6744897501960817 / std::sqrt(6.0);
-}
-
 Diagnosis diagnose(const std::vector<Measurement>& fit_data,
                    const std::vector<Measurement>& holdout, const DiagnoseOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -314,6 +302,7 @@ Diagnosis diagnose(const std::vector<Measurement>& fit_data,
                 std::to_string(kMinDiagnoseSamples) +
                 " are needed to tell the causes apart (each shows over whole protocol phases)");
   }
+  refuse_duplicate_records(fit_data, holdout);
   Diagnosis d;
   const SimulationOptions& sim = options.fit.simulation;
   const DataScales scales = data_scales(fit_data);
@@ -563,6 +552,10 @@ nlohmann::json fit_json(const FitResult& f) {
               {"rmse_fit_N", f.rmse_force_N},
               {"rmse_per_file_N", f.rmse_per_file_N},
               {"aic", f.aic},
+              {"r_squared", f.r_squared},
+              {"noise_sigma_N", f.noise_sigma_N},
+              {"quality_warning", f.quality_warning().empty() ? json(nullptr)
+                                                              : json(f.quality_warning())},
               {"n_force", f.n_force},
               {"starts", f.starts},
               {"iterations", f.iterations}};

@@ -16,10 +16,6 @@
 
 namespace rheo::identify {
 
-// Noise level of a force record from its second differences (independent of any model):
-// sigma = rms(f[i+1] - 2 f[i] + f[i-1]) / sqrt(6), exact for white noise on a smooth curve.
-double noise_from_second_differences(const Measurement& m);
-
 // Fewest samples (rows of the fit files together) a diagnosis accepts.
 inline constexpr std::size_t kMinDiagnoseSamples = 100;
 

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -319,6 +320,7 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
     return true;
   }();
   (void)quiet_solver;
+  refuse_duplicate_records(data);
   const DataScales s = data_scales(data);
   const std::size_t k = spec.params.size();
   if (starts.empty()) {
@@ -405,6 +407,29 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
   }
   best.rmse_force_N = std::sqrt(best.rss_force / best.n_force);
   best.aic = best.n_force * std::log(best.rss_force / best.n_force) + 2.0 * (k + 1);
+  // A model that reproduces the record exactly (or a record of zeros) has no likelihood to
+  // compare: that is degenerate input, not a perfect result.
+  if (!std::isfinite(best.aic) || !(best.rss_force > 0.0)) {
+    throw Error("fit: model " + spec.name() + " reproduces the force of " + data.front().source +
+                " with a residual of " + std::to_string(best.rss_force) +
+                " N^2: the record is degenerate (a force of zero or below the numbers' "
+                "resolution, or no noise at all); no interval or AIC can be computed");
+  }
+  // How much of the force's variation the model explains, and how its misfit compares with
+  // the records' own noise (second differences): what the intervals are worth.
+  {
+    double sum = 0.0, n = 0.0;
+    for (const auto& m : data)
+      for (const double f : m.force_N) sum += f, n += 1.0;
+    const double mean = sum / n;
+    double tss = 0.0, noise2 = 0.0;
+    for (const auto& m : data) {
+      for (const double f : m.force_N) tss += (f - mean) * (f - mean);
+      noise2 += std::pow(noise_from_second_differences(m), 2) * static_cast<double>(m.size());
+    }
+    best.r_squared = tss > 0.0 ? 1.0 - best.rss_force / tss : 0.0;
+    best.noise_sigma_N = std::sqrt(noise2 / n);
+  }
 
   // Covariance from the Jacobian at the optimum: cov = s^2 (J^T J)^-1 over the parameters
   // that are not at a bound and that the data determine; s^2 = RSS / (n - k).
@@ -454,6 +479,27 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
     }
   }
   return best;
+}
+
+std::string FitResult::quality_warning() const {
+  char text[400];
+  if (!(r_squared >= kMinRSquared)) {
+    std::snprintf(text, sizeof text,
+                  "the fit explains little of the force (R^2 = %.3g, below %.2g%s): the model "
+                  "does not describe these data, and its intervals describe the wrong model",
+                  r_squared, kMinRSquared,
+                  r_squared < 0.0 ? "; negative: worse than the mean force" : "");
+    return text;
+  }
+  if (noise_sigma_N > 0.0 && rmse_force_N > kMaxMisfitOverNoise * noise_sigma_N) {
+    std::snprintf(text, sizeof text,
+                  "the fit misfits: RMSE %.3g N is %.3g times the records' noise (%.3g N); the "
+                  "intervals assume residuals that are noise, so they are too narrow "
+                  "(rheo diagnose names what is missing)",
+                  rmse_force_N, rmse_force_N / noise_sigma_N, noise_sigma_N);
+    return text;
+  }
+  return {};
 }
 
 std::vector<const ParamEstimate*> FitResult::unidentifiable() const {

@@ -80,6 +80,13 @@ struct ParamEstimate {
 // flagged when its 95 % interval is wider than its whole allowed range.
 constexpr double kMaxRelativeStandardError = 1.0;
 
+// A fit whose R^2 is below this explains less of the force than its mean does, or hardly
+// more; its intervals describe a wrong model.
+inline constexpr double kMinRSquared = 0.5;
+// A fit whose RMSE is above this many times the records' noise leaves a systematic misfit:
+// the intervals assume residuals that are noise, so they are too narrow.
+inline constexpr double kMaxMisfitOverNoise = 2.0;  // as the diagnosis's remaining misfit
+
 struct FitResult {
   ModelSpec spec;
   std::vector<double> values;  // physical parameter values
@@ -91,6 +98,12 @@ struct FitResult {
   int starts = 0;
   int iterations = 0;
   std::vector<double> rmse_per_file_N;
+  double r_squared = 0.0;      // 1 - RSS / (sum of squares about the mean force)
+  double noise_sigma_N = 0.0;  // the records' noise level (second differences), pooled
+  // What the fit is worth beside its intervals: empty when the model explains the force
+  // (R^2 >= kMinRSquared) and fits to within kMaxMisfitOverNoise times the noise; else the
+  // warning, which fit.json, the report and the command's output carry.
+  std::string quality_warning() const;
   // Estimates flagged as not identifiable (pointers into `estimates`).
   std::vector<const ParamEstimate*> unidentifiable() const;
 };

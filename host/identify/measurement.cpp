@@ -37,6 +37,13 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
+// A number in messages, as short as %g writes it.
+std::string fmt_g(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 // Parses a finite number filling the whole cell; throws with file/line/field otherwise.
 double parse_number(const std::string& cell, const std::string& path, std::size_t line,
                     const std::string& field) {
@@ -44,11 +51,19 @@ double parse_number(const std::string& cell, const std::string& path, std::size_
   if (t.empty()) {
     throw Error(where(path, line) + ": field '" + field + "' is empty, expected a number");
   }
+  // strtod also reads hexadecimal ("0x1p3"): no instrument writes that, so a cell in it is
+  // a corrupted or foreign file, not a number.
+  if (t.find_first_of("xX") != std::string::npos) {
+    throw Error(where(path, line) + ": field '" + field + "' is '" + t +
+                "', expected a decimal number (hexadecimal is not read)");
+  }
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(t.c_str(), &end);
   if (end != t.c_str() + t.size() || errno == ERANGE) {
-    throw Error(where(path, line) + ": field '" + field + "' is '" + t + "', expected a number");
+    throw Error(where(path, line) + ": field '" + field + "' is '" + t +
+                "', expected a number" +
+                (errno == ERANGE ? " within double precision's range" : ""));
   }
   if (!std::isfinite(v)) {
     throw Error(where(path, line) + ": field '" + field + "' is '" + t +
@@ -145,9 +160,10 @@ double geometry_value(const Measurement& m, const std::string& key, double fallb
   const auto it = m.meta.find(key);
   if (it == m.meta.end()) return fallback;
   const double v = parse_number(it->second, m.source, line, key);
-  if (!(v > 0.0)) {
+  if (!(v >= kMinSpecimenMm && v <= kMaxSpecimenMm)) {
     throw Error(where(m.source, line) + ": field '" + key + "' is " + it->second +
-                ", expected a positive length in mm");
+                ", expected a specimen length in mm from " + fmt_g(kMinSpecimenMm) + " to " +
+                fmt_g(kMaxSpecimenMm));
   }
   return v;
 }
@@ -200,6 +216,10 @@ Measurement read_measurement_csv(std::istream& in, const std::string& path) {
                       "', expected version 1");
         }
         version_seen = true;
+      }
+      if (const auto seen = meta_line.find(key); seen != meta_line.end()) {
+        throw Error(where(path, line) + ": field '" + key + "' is given again (first on line " +
+                    std::to_string(seen->second) + "); expected each metadata key once");
       }
       m.meta[key] = value;
       meta_line[key] = line;
@@ -533,7 +553,7 @@ std::vector<std::string> split_cells(const std::string& line, char sep) {
 
 bool is_number(const std::string& cell) {
   const std::string t = trim(cell);
-  if (t.empty()) return false;
+  if (t.empty() || t.find_first_of("xX") != std::string::npos) return false;
   char* end = nullptr;
   std::strtod(t.c_str(), &end);
   return end == t.c_str() + t.size();
@@ -846,9 +866,14 @@ Measurement from_relaxation_table(const Table& t, const ImportOptions& o,
   m.import.units = units_statement({time, modulus}, {"s", "Pa"});
   const double plate = strain * m.geometry.height_mm;
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    const double g = value_at(t, r, cg);
+    if (!(g > 0.0)) {
+      throw Error(where(t.path, t.row_lines[r]) + ": field '" + modulus->name + "' is " +
+                  fmt_g(g) + " Pa, expected a positive relaxation modulus");
+    }
     m.time_s.push_back(value_at(t, r, ct));
     m.plate_mm.push_back(plate);
-    m.force_N.push_back(value_at(t, r, cg) * strain * m.geometry.area_m2());
+    m.force_N.push_back(g * strain * m.geometry.area_m2());
     m.surface_mm.push_back(std::numeric_limits<double>::quiet_NaN());
   }
   m.meta["imported_from"] = std::filesystem::path(t.path).filename().string();
@@ -889,6 +914,13 @@ Measurement from_step_strain_export(const Table& t, const ImportOptions& o,
     m.surface_mm.push_back(std::numeric_limits<double>::quiet_NaN());
   }
   m.meta["imported_from"] = std::filesystem::path(t.path).filename().string();
+  double largest = 0.0;
+  for (std::size_t r = 0; r < t.rows.size(); ++r) largest = std::max(largest, value_at(t, r, ce));
+  if (!(largest >= kMinStepStrain)) {
+    throw Error(t.path + ": column '" + strain->name + "' never exceeds " + fmt_g(largest) +
+                ", expected a step strain of at least " + fmt_g(kMinStepStrain) +
+                " (compression positive)");
+  }
   m.meta["import"] =
       "step-strain export: plate = strain * height, force = stress * area on the geometry";
   check_series(m, t.row_lines);
@@ -1001,8 +1033,10 @@ Geometry parse_geometry(const std::string& text) {
     char* end = nullptr;
     v[i] = std::strtod(parts[i].c_str(), &end);
     if (parts[i].empty() || end != parts[i].c_str() + parts[i].size() || !std::isfinite(v[i]) ||
-        !(v[i] > 0.0)) {
-      throw Error(usage + " (each a positive number)");
+        parts[i].find_first_of("pP") != std::string::npos ||
+        !(v[i] >= kMinSpecimenMm && v[i] <= kMaxSpecimenMm)) {
+      throw Error(usage + " (each a decimal number from " + fmt_g(kMinSpecimenMm) + " to " +
+                  fmt_g(kMaxSpecimenMm) + " mm)");
     }
   }
   return Geometry{v[0], v[1], v[2]};
@@ -1014,10 +1048,15 @@ double parse_strain(const std::string& text) {
   if (percent) s = trim(s.substr(0, s.size() - 1));
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) {
+  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v) ||
+      s.find_first_of("xX") != std::string::npos) {
     throw Error("--strain '" + text + "': expected a fraction (0.01) or a percentage (1%)");
   }
   const double f = percent ? v * 0.01 : v;
+  if (f > 0.0 && f < kMinStepStrain) {
+    throw Error("--strain '" + text + "': expected a step strain of at least " +
+                fmt_g(kMinStepStrain) + "; a smaller one turns every force into rounding noise");
+  }
   if (!(f > 0.0 && f < 1.0)) {
     throw Error("--strain '" + text + "': expected a step strain between 0 and 1 (0 and 100 %)" +
                 (!percent && v >= 1.0
@@ -1123,6 +1162,48 @@ std::string describe_import(const Measurement& m) {
   s << "  modulus conversion: " << i.modulus_conversion << "\n";
   s << "  units: " << i.units << "\n";
   return s.str();
+}
+
+double noise_from_second_differences(const Measurement& m) {
+  if (m.size() < 3) return 0.0;
+  // Second differences are dominated by the curve at kinks (phase changes); a robust
+  // scale (median absolute value / 0.6745) ignores those few samples.
+  std::vector<double> dd;
+  for (std::size_t i = 1; i + 1 < m.size(); ++i) {
+    dd.push_back(std::abs(m.force_N[i + 1] - 2.0 * m.force_N[i] + m.force_N[i - 1]));
+  }
+  std::nth_element(dd.begin(), dd.begin() + dd.size() / 2, dd.end());
+  return dd[dd.size() / 2] / 0.6744897501960817 / std::sqrt(6.0);
+}
+
+void refuse_duplicate_records(const std::vector<Measurement>& fit,
+                              const std::vector<Measurement>& holdout) {
+  std::vector<std::pair<const Measurement*, const char*>> all;
+  for (const Measurement& m : fit) all.emplace_back(&m, "fit file");
+  for (const Measurement& m : holdout) all.emplace_back(&m, "held-out file");
+  // Equal values, an absent value (NaN: no surface reading) equal to an absent one.
+  const auto equal = [](const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](double x, double y) {
+             return x == y || (std::isnan(x) && std::isnan(y));
+           });
+  };
+  const auto same = [&equal](const Measurement& a, const Measurement& b) {
+    return equal(a.time_s, b.time_s) && equal(a.plate_mm, b.plate_mm) &&
+           equal(a.force_N, b.force_N) && equal(a.surface_mm, b.surface_mm);
+  };
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    for (std::size_t j = i + 1; j < all.size(); ++j) {
+      if (!same(*all[i].first, *all[j].first)) continue;
+      const bool across = std::string(all[i].second) != all[j].second;
+      throw Error(all[j].first->source + ": the " + all[j].second + " holds the same record as " +
+                  all[i].second + " " + all[i].first->source +
+                  (across ? "; held-out data must be another measurement, or the check tests "
+                            "nothing"
+                          : "; a record given twice counts its samples twice and narrows every "
+                            "interval without new information") +
+                  ". Give each measurement once");
+    }
+  }
 }
 
 }  // namespace rheo::identify

@@ -15,6 +15,17 @@ namespace rheo::identify {
 
 // The specimen block the plate pushes (docs/data-format.md, `# specimen_*_mm` keys). The
 // fit model reduces it to a 1-D column of this height and top area (see specimen.hpp).
+// The specimen sizes a file or --geometry may give, in mm: from a thin film between a
+// rheometer's plates to a block between the platens of a large testing machine (about a
+// metre of travel). Outside, a number is a unit mistake (m for mm, a 1,000 km typo), not a
+// specimen; it is refused by field.
+inline constexpr double kMinSpecimenMm = 1e-3;
+inline constexpr double kMaxSpecimenMm = 1e3;
+// The smallest step strain accepted (--strain, a step-strain export's largest strain):
+// below it the step is below anything a rheometer imposes, and a subnormal or zero strain
+// turns every force into rounding noise.
+inline constexpr double kMinStepStrain = 1e-7;
+
 struct Geometry {
   double height_mm = 12.5;
   double width_mm = 80.0;
@@ -51,6 +62,17 @@ struct Measurement {
   std::size_t size() const { return time_s.size(); }
   bool has_surface() const;
 };
+
+// Noise level of a force record from its second differences (independent of any model):
+// sigma = rms(f[i+1] - 2 f[i] + f[i-1]) / sqrt(6), exact for white noise on a smooth curve.
+double noise_from_second_differences(const Measurement& m);
+
+// Refuses (rheo::Error naming both files) a record given twice: the same data (time, plate,
+// force and surface columns equal, whatever the file is called or how it is formatted)
+// among the fit files, among the held-out files, or in both. Twice the same record doubles
+// n and narrows every interval; a held-out record that is a fit record tests nothing.
+void refuse_duplicate_records(const std::vector<Measurement>& fit,
+                              const std::vector<Measurement>& holdout = {});
 
 // Reads a measurement CSV (docs/data-format.md). Throws rheo::Error naming file, line and
 // field for anything malformed: missing header or version line, wrong columns,

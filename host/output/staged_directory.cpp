@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "host/output/interrupt_cleanup.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::output {
@@ -76,27 +77,75 @@ void remove_leftovers(const fs::path& target) {
   }
 }
 
+// `p` absolute and lexically normal, without a trailing separator.
+fs::path absolute_path(const std::string& p) {
+  fs::path a = fs::absolute(fs::path(p)).lexically_normal();
+  if (!a.has_filename() && a.has_parent_path() && a != a.root_path()) a = a.parent_path();
+  return a;
+}
+
+// True when `p` is `dir` or lies below it, compared both as written and as the file system
+// resolves them (symbolic links followed), so that neither a link to an input nor an --out
+// that is a link hides an input from the check.
+bool within(const fs::path& p, const fs::path& dir) {
+  const auto below = [](const fs::path& a, const fs::path& b) {
+    const fs::path rel = a.lexically_relative(b);
+    return !rel.empty() && *rel.begin() != "..";
+  };
+  std::error_code e1, e2;
+  const fs::path rp = fs::weakly_canonical(p, e1);
+  const fs::path rd = fs::weakly_canonical(dir, e2);
+  return below(p, dir) || (!e1 && !e2 && below(rp, rd)) || (!e1 && below(rp, dir)) ||
+         (!e2 && below(p, rd));
+}
+
+// Refuses to replace `target` (a directory, or a file's final path) when that would delete
+// what the command reads.
+void refuse_replacing_inputs(const fs::path& target, const std::vector<std::string>& inputs,
+                             const std::string& option) {
+  for (const std::string& input : inputs) {
+    if (within(absolute_path(input), target)) {
+      throw Error(option + " " + target.string() + ": holds " + input +
+                  ", which this command reads; replacing it (--force) would delete the input. "
+                  "Choose another " + option + " or move the input out of it");
+    }
+  }
+}
+
 }  // namespace
 
-StagedDirectory::StagedDirectory(const std::string& target, bool replace) : replace_(replace) {
-  fs::path t = fs::absolute(fs::path(target)).lexically_normal();
-  if (!t.has_filename()) t = t.parent_path();  // "out/" -> "out"
+StagedDirectory::StagedDirectory(const std::string& target, bool replace,
+                                 const std::vector<std::string>& inputs)
+    : replace_(replace), inputs_(inputs) {
+  const fs::path t = absolute_path(target);
   target_ = t.string();
+  if (t == t.root_path()) throw Error("--out " + target_ + ": the file system's root is not an output directory");
   std::error_code ec;
   if (fs::exists(t, ec)) {
     if (!fs::is_directory(t, ec)) {
       throw Error(target_ + ": exists and is not a directory (choose another --out)");
     }
-    if (!is_empty_directory(t) && !replace_) {
-      throw Error(target_ +
-                  ": output directory exists and is not empty; choose another --out or pass "
-                  "--force to replace its content");
+    if (!is_empty_directory(t)) {
+      if (!replace_) {
+        throw Error(target_ +
+                    ": output directory exists and is not empty; choose another --out or pass "
+                    "--force to replace its content");
+      }
+      // Replacing it deletes everything in it: never the inputs, never the directory the
+      // command (and the shell that started it) works in.
+      refuse_replacing_inputs(t, inputs_, "--out");
+      if (within(fs::current_path(ec), t)) {
+        throw Error("--out " + target_ +
+                    ": is the working directory or holds it; replacing it (--force) would "
+                    "delete everything in it. Choose a new directory for the results");
+      }
     }
   }
   fs::create_directories(t.parent_path(), ec);
   if (ec) throw Error(t.parent_path().string() + ": cannot create directory: " + ec.message());
   remove_leftovers(t);
   staging_ = make_sibling(t, "partial");
+  register_interrupt_cleanup(staging_, "staged results for " + target_);
   // mkdtemp makes the directory private (0700); results are ordinary files (0755 dirs).
   fs::permissions(staging_,
                   fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
@@ -107,7 +156,13 @@ StagedDirectory::StagedDirectory(const std::string& target, bool replace) : repl
 StagedDirectory::~StagedDirectory() {
   if (committed_) return;
   std::error_code ec;
-  fs::remove_all(staging_, ec);  // best effort: a destructor must not throw
+  // Best effort: a destructor must not throw.
+  for (const StagedFile& f : files_) {
+    fs::remove_all(f.staging_dir, ec);
+    unregister_interrupt_cleanup(f.staging_dir);
+  }
+  fs::remove_all(staging_, ec);
+  unregister_interrupt_cleanup(staging_);
 }
 
 std::string StagedDirectory::map(const std::string& user_path) const {
@@ -117,7 +172,41 @@ std::string StagedDirectory::map(const std::string& user_path) const {
   return (fs::path(staging_) / rel).string();
 }
 
+std::string StagedDirectory::stage_file(const std::string& user_path,
+                                        const std::vector<std::string>& companions) {
+  const std::string inside = map(user_path);
+  if (inside != user_path) return inside;
+  StagedFile f;
+  std::vector<std::string> paths{user_path};
+  paths.insert(paths.end(), companions.begin(), companions.end());
+  const fs::path dir = absolute_path(user_path).parent_path();
+  for (const std::string& p : paths) {
+    const fs::path a = absolute_path(p);
+    if (a.parent_path() != dir)
+      throw Error(p + ": a companion file must lie beside " + user_path);
+    std::error_code ec;
+    if (fs::exists(a, ec)) {
+      if (fs::is_directory(a, ec)) throw Error(p + ": exists and is a directory");
+      if (!replace_)
+        throw Error(p + ": exists; choose another file name or pass --force to replace it");
+      refuse_replacing_inputs(a, inputs_, "the output file");
+    }
+    f.finals.push_back(a.string());
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw Error(dir.string() + ": cannot create directory: " + ec.message());
+  const fs::path first(f.finals.front());
+  remove_leftovers(first);
+  f.staging_dir = make_sibling(first, "partial");
+  register_interrupt_cleanup(f.staging_dir, "staged " + f.finals.front());
+  files_.push_back(f);
+  return (fs::path(f.staging_dir) / first.filename()).string();
+}
+
 void StagedDirectory::commit() {
+  // An interrupt waits until the results are in place (or the attempt failed).
+  std::lock_guard<std::mutex> lock(interrupt_cleanup_mutex());
   const fs::path target(target_);
   std::error_code ec;
   if (fs::exists(target, ec) && !is_empty_directory(target)) {
@@ -140,6 +229,22 @@ void StagedDirectory::commit() {
     if (ec) throw Error(target_ + ": cannot move the results into place: " + ec.message());
   }
   committed_ = true;
+  for (const StagedFile& f : files_) {
+    for (const std::string& final_path : f.finals) {
+      const fs::path staged = fs::path(f.staging_dir) / fs::path(final_path).filename();
+      if (!fs::exists(staged, ec)) continue;  // a companion the run did not write
+      if (fs::exists(final_path, ec) && !replace_)
+        throw Error(final_path + ": appeared during the run; the new one is in " + f.staging_dir);
+      fs::rename(staged, final_path, ec);
+      if (ec)
+        throw Error(final_path + ": cannot move into place: " + ec.message() + " (it is in " +
+                    f.staging_dir + ")");
+    }
+    fs::remove_all(f.staging_dir, ec);
+  }
+  // Unregistered only now: the lock is still held, so no interrupt can see a half state.
+  for (const StagedFile& f : files_) unregister_interrupt_cleanup_locked(f.staging_dir);
+  unregister_interrupt_cleanup_locked(staging_);
 }
 
 }  // namespace rheo::output

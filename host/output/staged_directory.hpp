@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace rheo::output {
 
@@ -12,8 +13,12 @@ class StagedDirectory {
  public:
   // Refuses (rheo::Error) when `target` exists and is not an empty directory, unless
   // `replace` is set; then the old content is replaced at commit(), not before. Creates
-  // missing parent directories.
-  StagedDirectory(const std::string& target, bool replace);
+  // missing parent directories. `inputs` are the files and directories the command reads:
+  // replacing a target that holds one of them (or the working directory) is refused here,
+  // before any work, since the replacement would delete it. The staging is removed if the
+  // command is interrupted (output/interrupt_cleanup.hpp).
+  StagedDirectory(const std::string& target, bool replace,
+                  const std::vector<std::string>& inputs = {});
   ~StagedDirectory();  // removes the temporary directory unless committed
   StagedDirectory(const StagedDirectory&) = delete;
   StagedDirectory& operator=(const StagedDirectory&) = delete;
@@ -28,13 +33,27 @@ class StagedDirectory {
   // other path is returned unchanged.
   std::string map(const std::string& user_path) const;
 
+  // Where to write a file the user named that goes with the results (a waveform): inside
+  // the target as map(); outside it the file and the `companions` written beside it (a
+  // save file) follow the same rule as the directory: refused now when one exists (unless
+  // `replace`) or is an input, written to a hidden staging directory next to the file, and
+  // moved into place by commit(). Returns the path to write.
+  std::string stage_file(const std::string& user_path,
+                         const std::vector<std::string>& companions = {});
+
   // Moves the staged results to the target (replacing an old target when allowed).
   void commit();
 
  private:
+  struct StagedFile {
+    std::string staging_dir;          // hidden directory next to the file
+    std::vector<std::string> finals;  // absolute final paths (the file, its companions)
+  };
   std::string target_;
   std::string staging_;
   bool replace_;
+  std::vector<std::string> inputs_;
+  std::vector<StagedFile> files_;
   bool committed_ = false;
 };
 

@@ -1,0 +1,297 @@
+// Nothing lost, nothing silent: what a hostile user tried against the commands that write
+// results. --force never deletes an input; every output path (the waveform too) follows one
+// staging and overwrite rule; a signal leaves nothing half-written and ends with 128 + its
+// number; option errors exit 2 with rheo's prefix and the range in words; a run that would
+// fill the disk is refused before it starts; a record given twice, a held-out record that is
+// a fit record and degenerate fields are refused by name; a poor fit says so; the object
+// model failing is an error unless the column's first guess is asked for.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tests/cli/run_rheo.hpp"
+#include "tests/test_paths.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using rheo::testing_support::run_rheo;
+using rheo::testing_support::RunResult;
+
+class NothingLost : public testing::Test {
+ protected:
+  void SetUp() override {
+    std::string name("rheo_nothing_lost_");
+    name.append(testing::UnitTest::GetInstance()->current_test_info()->name());
+    root_ = fs::temp_directory_path() / name;
+    fs::remove_all(root_);
+    fs::create_directories(root_);
+  }
+  void TearDown() override { fs::remove_all(root_); }
+
+  std::string path(const std::string& name) const { return (root_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    fs::create_directories((root_ / name).parent_path());
+    std::ofstream(root_ / name, std::ios::binary) << text;
+    return path(name);
+  }
+  static std::string read(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  static std::string data() { return std::string(RHEO_SOURCE_DIR) + "/data/clay_fast.csv"; }
+  // Nothing staged is left next to `dir`'s entries.
+  void expect_no_staging() const {
+    for (const auto& e : fs::recursive_directory_iterator(root_)) {
+      const std::string n = e.path().filename().string();
+      EXPECT_TRUE(n.find(".partial-") == std::string::npos && n.find(".old-") == std::string::npos)
+          << "left behind: " << e.path();
+    }
+  }
+  // Runs rheo in `dir` as its working directory.
+  static RunResult run_in(const std::string& dir, const std::string& args) {
+    const std::string command =
+        "cd '" + dir + "' && " + std::string(RHEO_BINARY) + " " + args + " 2>&1";
+    RunResult r;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return r;
+    char buf[4096];
+    while (std::fgets(buf, sizeof buf, pipe)) r.output += buf;
+    const int status = pclose(pipe);
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+  }
+  // Starts rheo, waits until it has staged its output in root_, sends `sig`, and returns
+  // the exit status (or -1 when it died by the signal, as before this rule).
+  int interrupted_exit(const std::vector<std::string>& args, int sig) const {
+    const pid_t child = fork();
+    if (child == 0) {
+      std::vector<char*> argv{const_cast<char*>(RHEO_BINARY)};
+      for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(RHEO_BINARY, argv.data());
+      _exit(127);
+    }
+    bool staged = false;
+    for (int i = 0; i < 3000 && !staged; ++i) {
+      for (const auto& e : fs::directory_iterator(root_)) {
+        staged = staged || e.path().filename().string().find(".partial-") != std::string::npos;
+      }
+      if (!staged) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    EXPECT_TRUE(staged) << "the run never staged its output";
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // into the run's work
+    kill(child, sig);
+    int status = 0;
+    waitpid(child, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  fs::path root_;
+};
+
+TEST_F(NothingLost, ForceNeverDeletesAFileTheCommandReads) {
+  const std::string csv = read(data());
+  const std::string in_out = write("d/data.csv", csv);
+  RunResult r = run_rheo("fit " + in_out + " --model-form column -q --out " + path("d") + " --force");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("which this command reads"), std::string::npos) << r.output;
+  EXPECT_EQ(read(in_out), csv) << "the input was deleted or changed";
+
+  // Through a symbolic link outside --out that points into it.
+  fs::create_symlink(in_out, root_ / "alias.csv");
+  r = run_rheo("fit " + path("alias.csv") + " --model-form column -q --out " + path("d") +
+               " --force");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_EQ(read(in_out), csv);
+
+  const std::string scenario = write("s/my.json", run_rheo("scenarios --show block5").output);
+  const std::string scenario_text = read(scenario);
+  r = run_rheo("simulate --scenario " + scenario + " --steps 2 --no-plot -q --out " + path("s") +
+               " --force");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_EQ(read(scenario), scenario_text);
+
+  // --out . --force in a folder with the user's files: the working directory is never
+  // replaced.
+  const std::string keep = write("w/notes.txt", "mine");
+  r = run_in(path("w"), "simulate --scenario block5 --steps 2 --no-plot -q --out . --force");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("working directory"), std::string::npos) << r.output;
+  EXPECT_EQ(read(keep), "mine");
+  expect_no_staging();
+
+  // Still allowed: replacing an old result that holds no input.
+  write("old/force.csv", "old result");
+  r = run_rheo("simulate --scenario block5 --steps 2 --no-plot -q --out " + path("old") + " --force");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(read(path("old/force.csv")), "old result");
+}
+
+#ifdef RHEO_HAVE_RTL
+TEST_F(NothingLost, AWaveformFollowsTheRuleOfTheOutputDirectory) {
+  // An existing file outside --out is not overwritten without --force...
+  const std::string wave = write("w.fst", "someone's waveform");
+  RunResult r = run_rheo("cosim --scenario block5 --steps 2 -q --trace " + wave + " --out " +
+                         path("c"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("exists"), std::string::npos) << r.output;
+  EXPECT_EQ(read(wave), "someone's waveform");
+  EXPECT_FALSE(fs::exists(path("c")));
+  // ... nor, with --force, when it is an input.
+  const std::string scenario = write("b5.json", run_rheo("scenarios --show block5").output);
+  const std::string scenario_text = read(scenario);
+  r = run_rheo("cosim --scenario " + scenario + " --steps 2 -q --trace " + scenario + " --out " +
+               path("c") + " --force");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_EQ(read(scenario), scenario_text);
+  // A new one outside --out appears with its save file only when the run succeeded.
+  r = run_rheo("cosim --scenario block5 --steps 2 -q --trace " + path("t/new.fst") + " --out " +
+               path("c"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(path("t/new.fst")));
+  EXPECT_TRUE(fs::exists(path("t/new.gtkw")));
+  expect_no_staging();
+}
+#endif
+
+TEST_F(NothingLost, ASignalLeavesNothingAndEndsWith128PlusItsNumber) {
+  struct Case {
+    std::vector<std::string> args;
+    int sig;
+  };
+  const std::string out = path("out");
+  const std::vector<Case> cases = {
+      {{"simulate", "--scenario", "clay_push", "-q", "--out", out}, SIGINT},
+      {{"simulate", "--scenario", "clay_push", "-q", "--out", out}, SIGHUP},
+      {{"fit", data(), "--model", "second_relaxation_time", "-q", "--out", out}, SIGTERM},
+      {{"diagnose", data(), "-q", "--out", out}, SIGINT},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args.front() + " " + std::to_string(c.sig));
+    EXPECT_EQ(interrupted_exit(c.args, c.sig), 128 + c.sig);
+    EXPECT_FALSE(fs::exists(out));
+    expect_no_staging();
+  }
+}
+
+TEST_F(NothingLost, OptionErrorsExitTwoWithThePrefixAndTheRangeInWords) {
+  struct Case {
+    std::string args, words;
+  };
+  const std::vector<Case> cases = {
+      {"simulate --scenario block5 --duration -1", "a number greater than 0"},
+      {"simulate --scenario block5 --duration 0x10", "a number greater than 0"},
+      {"cosim --scenario block5 --idle-prob 2", "a number from 0 to 0.95"},
+      {"cosim --scenario block5 --compare-every -1", "from 0 to 1000000000"},
+      {"simulate --scenario block5 --max-output-gb -1", "a size in GB"},
+      {"simulate --scenario block5 --no-such-option", "--no-such-option"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.args);
+    const RunResult r = run_rheo(c.args + " --out " + path("out"));
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_EQ(r.output.rfind("rheo: error: ", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("e+308"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("179769313486231570"), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(run_rheo("simulate --help").status, 0);
+}
+
+TEST_F(NothingLost, ARunThatWouldFillTheDiskIsRefusedBeforeItStarts) {
+  std::string s = run_rheo("scenarios --show block5").output;
+  const std::string key = "\"vtk_interval_s\":";
+  const std::size_t at = s.find(key);
+  ASSERT_NE(at, std::string::npos) << s;
+  s.replace(at, s.find_first_of(",\n}", at) - at, key + " 1e-9");
+  const RunResult r =
+      run_rheo("simulate --scenario " + write("tiny.json", s) + " --no-plot -q --out " + path("out"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  for (const char* w : {"would write about", "GB", "VTK frames", "vtk_interval_s", "--max-output-gb"})
+    EXPECT_NE(r.output.find(w), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("out")));
+  expect_no_staging();
+}
+
+TEST_F(NothingLost, ARecordGivenTwiceOrHeldOutAsItsOwnCheckIsRefused) {
+  const std::string copy = write("copy.csv", read(data()));
+  RunResult r = run_rheo("fit " + data() + " " + copy + " --model-form column -q --out " + path("f"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("same record"), std::string::npos) << r.output;
+  r = run_rheo("diagnose " + data() + " --holdout " + copy + " --model-form column -q --out " +
+               path("d"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("held-out"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("f")) || fs::exists(path("d")));
+}
+
+TEST_F(NothingLost, DegenerateFieldsAreRefusedByName) {
+  const std::string head = "# rheo-measurement: 1\n";
+  std::ostringstream rows;
+  rows << "time_s,plate_mm,force_N,surface_mm\n";
+  for (int i = 0; i <= 200; ++i)
+    rows << 0.1 * i << "," << std::min(0.01 * i, 1.0) << "," << std::min(0.05 * i, 5.0) << ",\n";
+  struct Case {
+    std::string name, text, words;
+  };
+  const std::vector<Case> cases = {
+      {"hex.csv", head + rows.str() + "20.2,0x1p0,5,\n", "hexadecimal"},
+      {"twice.csv", head + "# specimen_height_mm: 10\n# specimen_height_mm: 12\n" + rows.str(), "given again"},
+      {"far.csv", head + "# specimen_height_mm: 1e9\n" + rows.str(), "specimen length in mm"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const RunResult r =
+        run_rheo("fit " + write(c.name, c.text) + " --model-form column -q --out " + path("o"));
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find(c.name), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.words), std::string::npos) << r.output;
+  }
+  std::ostringstream table;
+  table << "Time [s]\tRelaxation Modulus [Pa]\n";
+  for (int i = 0; i < 50; ++i) table << 0.1 * (i + 1) << "\t" << (i == 30 ? -5.0 : 1000.0) << "\n";
+  const std::string relax = write("relax.tsv", table.str());
+  RunResult r = run_rheo("fit " + relax + " --model-form column -q --out " + path("o"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("positive relaxation modulus"), std::string::npos) << r.output;
+  r = run_rheo("fit " + relax + " --strain 1e-320 --model-form column -q --out " + path("o"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("--strain"), std::string::npos) << r.output;
+  r = run_rheo("fit " + data() + " --geometry 1e9x10x10 --model-form column -q --out " + path("o"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("--geometry"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("o")));
+}
+
+TEST_F(NothingLost, AFitThatExplainsLittleSaysSoBesideItsIntervals) {
+  // A push and hold whose force is noise about a constant: nothing for the model to explain.
+  std::ostringstream s;
+  s << "# rheo-measurement: 1\ntime_s,plate_mm,force_N,surface_mm\n";
+  std::uint32_t seed = 12345;
+  for (int i = 0; i <= 600; ++i) {
+    seed = seed * 1664525u + 1013904223u;
+    const double noise = (static_cast<double>(seed >> 8) / 16777216.0 - 0.5) * 2.0;
+    s << 0.1 * i << "," << std::min(0.02 * i, 2.0) << "," << 3.0 + noise << ",\n";
+  }
+  const RunResult r =
+      run_rheo("fit " + write("noise.csv", s.str()) + " --model-form column -q --out " + path("o"));
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the fit explains little"), std::string::npos) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(read(path("o/fit.json")));
+  EXPECT_TRUE(j["quality_warning"].is_string()) << j.dump(2);
+  EXPECT_LT(j["r_squared"].get<double>(), 0.5);
+}
+
+}  // namespace
