@@ -295,3 +295,29 @@ TEST_F(NothingLost, AFitThatExplainsLittleSaysSoBesideItsIntervals) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(NothingLost, TheObjectModelFailingIsAnErrorUnlessTheFallbackIsAskedFor) {
+  // A relaxation table over ten decades on a log axis: its fast relaxation over its long end
+  // needs more explicit steps than the object model's limit (as the fish-muscle record).
+  std::ostringstream s;
+  s << "Time [s]\tRelaxation Modulus [Pa]\n";
+  for (int i = 0; i < 400; ++i) {
+    const double t = 1e-3 * std::pow(10.0, 10.0 * i / 399.0);
+    s << t << "\t" << 1000.0 * std::exp(-t / 0.01) + 2000.0 * std::exp(-t / 1e5) + 500.0 << "\n";
+  }
+  const std::string table = write("long.tsv", s.str());
+  RunResult r = run_rheo("fit " + table + " -q --out " + path("o"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  for (const char* w : {"the object model could not run these data", "--column-fallback",
+                        "--model-form column"})
+    EXPECT_NE(r.output.find(w), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("o")));
+  r = run_rheo("fit " + table + " -q --column-fallback --out " + path("o"));
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the object model could not run these data"), std::string::npos)
+      << r.output;
+}
+
+}  // namespace
