@@ -73,6 +73,8 @@ write("read_split_over_frames", hello + frame(COMMAND, 1, words(header(READ, 4, 
       frame(COMMAND, 2, words(0)))
 # One step more than a frame may run.
 write("too_many_steps", hello + frame(COMMAND, 1, words(header(RUN, 0, 4097), *range(4097))))
-# A long RUN within the limits: the host hangs up (or the server is stopped) in its middle.
-write("long_run_then_hang_up", hello + frame(COMMAND, 1, words(header(RUN, 0, 1000),
-                                                               *range(1000))))
+# A long RUN within the limits; the harness ends an even-length input with the host hanging
+# up and an odd-length one with a stop request (a signal): here in the RUN's middle.
+long_run = hello + frame(COMMAND, 1, words(header(RUN, 0, 1000), *range(1000)))
+write("long_run_then_hang_up", long_run)
+write("long_run_then_signal", long_run + b"\x00")  # a stray byte after the frame: odd length
