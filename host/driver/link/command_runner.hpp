@@ -1,14 +1,18 @@
 // The server's side of one accepted command frame: feeds its words to the core in short
 // pieces, takes the core's answer in short pieces and streams it back in response frames, and
 // between pieces looks for a stop request (a signal) and for a host that hung up (a poll() of
-// its socket, a microsecond against a step's tens or thousands of microseconds). A long
+// its socket). A long
 // command therefore ends within one piece of either, instead of running on for a host that is
 // gone or holding a server that was told to stop.
 //
-// A piece is at most kPieceWords command words and ends after the first word that makes the core
-// owe an answer (a RUN's plate word, a READ's index word, a STATUS), so it holds at most one
-// step of the core; an answer is taken kPieceAnswerWords at a time. The words reach the core in
-// the same order as if the frame were sent at once, so the results are the same.
+// A piece is at most kPieceWords command words; it ends after a READ's index word or a STATUS
+// (the words that make the core owe an answer), or after as many RUN plate words (steps) as the
+// piece size allows. The piece size adapts to the core: it starts at one step, doubles while a
+// piece takes less than half of kPieceTime and halves when one takes longer, so a slow core (a
+// large model on the RTL core, up to a few hundred milliseconds a step) runs one step a piece and
+// a fast one (the null core, a small bit-true model) thousands. An answer is taken
+// kPieceAnswerWords at a time. The words reach the core in the same order as if the frame were
+// sent at once, so the results are the same.
 #pragma once
 
 #include <atomic>
@@ -24,8 +28,11 @@
 
 namespace rheo::link {
 
-// Command words per piece: about as many clocks on the RTL core (s_axis takes a word a clock).
+// Command words per piece, and so also steps: about as many clocks on the RTL core (s_axis
+// takes a word a clock).
 inline constexpr std::size_t kPieceWords = 4096;
+// The time a piece aims at: the stop flag and the host's socket are looked at about this often.
+inline constexpr Milliseconds kPieceTime{10};
 // Answer words taken from the core per piece: about as many clocks on the RTL core.
 inline constexpr std::size_t kPieceAnswerWords = 4096;
 // Answer words are sent once a frame's worth is ready, when the command frame ends, and at least
@@ -55,6 +62,7 @@ class CommandRunner {
   const std::atomic<bool>* stop_;
   Milliseconds send_timeout_;
   CommandTracker tracker_;             // the words fed so far: how many answer words each owes
+  std::size_t piece_steps_ = 1;        // steps a piece may hold: adapts to the core's speed
   std::vector<std::uint32_t> answer_;  // taken from the core, not sent yet
   std::chrono::steady_clock::time_point last_flush_;
 };
