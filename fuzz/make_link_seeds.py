@@ -24,7 +24,11 @@ def words(*ws):
 
 
 def header(op, region, count):
-    return (op << 28) | (region << 24) | (count & 0xFFFFFF)
+    """A command header word (hls/frame_format.hpp): opcode [31:29], region [28:24], count."""
+    return (op << 29) | (region << 24) | (count & 0xFFFFFF)
+
+
+WRITE, RUN, READ, STATUS = 1, 2, 3, 4
 
 
 def write(name, data):
@@ -33,10 +37,10 @@ def write(name, data):
 
 
 hello = frame(HELLO, 0, words(1, 1, 1 << 20))
-status = words(header(4, 0, 1))
-write_state = words(header(1, 1, 1), 0, 1, 2, 3, 4, 5, 6)  # one particle: x[3], p[3]
-run = words(header(2, 0, 2), 0x100, 0x200)                 # two steps, two plate words
-read = words(header(3, 1, 2), 0)                           # two particles from index 0
+status = words(header(STATUS, 0, 1))
+write_state = words(header(WRITE, 1, 1), 0, 1, 2, 3, 4, 5, 6)  # one particle: x[3], p[3]
+run = words(header(RUN, 0, 2), 0x100, 0x200)                   # two steps, two plate words
+read = words(header(READ, 1, 2), 0)                            # two particles from index 0
 
 write("hello", hello)
 write("host_session", hello + frame(COMMAND, 1, write_state + run) +
@@ -55,3 +59,22 @@ write("odd_words", frame(COMMAND, 0, b"\x01\x02\x03"))
 write("truncated", (hello + frame(COMMAND, 1, write_state))[:-7])
 write("garbage_after_frame", hello + b"RHLX\x01\x02\x00\x00")
 write("bad_opcode", frame(COMMAND, 0, words(header(7, 0, 1))))
+
+# Attacks on the server's limits (frame_budget.hpp, docs/input-limits.md "Servers"): the harness
+# serves each stream with the null core, the host hanging up or a stop request (a signal)
+# arriving after its last byte, mid-command in a long one.
+# One READ of 2^24 - 1 material entries: 117 M response words, 8 bytes of command.
+write("huge_read", hello + frame(COMMAND, 1, words(header(READ, 4, 0xFFFFFF), 0)))
+# 64 READs of 65,536 edge lengths: each within the limit, 4 M response words together.
+write("many_reads", hello + frame(COMMAND, 1, words(*[w for _ in range(64)
+                                                     for w in (header(READ, 5, 0x10000), 0)])))
+# A READ whose index word comes in the next frame: its answer counts there.
+write("read_split_over_frames", hello + frame(COMMAND, 1, words(header(READ, 4, 0xFFFFFF))) +
+      frame(COMMAND, 2, words(0)))
+# One step more than a frame may run.
+write("too_many_steps", hello + frame(COMMAND, 1, words(header(RUN, 0, 4097), *range(4097))))
+# A long RUN within the limits; the harness ends an even-length input with the host hanging
+# up and an odd-length one with a stop request (a signal): here in the RUN's middle.
+long_run = hello + frame(COMMAND, 1, words(header(RUN, 0, 1000), *range(1000)))
+write("long_run_then_hang_up", long_run)
+write("long_run_then_signal", long_run + b"\x00")  # a stray byte after the frame: odd length

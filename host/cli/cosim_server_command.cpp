@@ -1,10 +1,11 @@
 // `rheo cosim-server --socket PATH [--lanes L]`: the RTL core (Verilator) in its own process
 // behind a Unix-domain socket, speaking the link frames (docs/transport.md) a board would.
 // Serves one host at a time, each with a freshly reset core, until a host sends shutdown or
-// the process gets SIGINT/SIGTERM; the socket file is removed on the way out. Further hosts
-// are answered "busy" at once; a host silent for --idle-timeout-s loses its session.
+// the process gets SIGINT/SIGTERM (exit status 130/143, within a second even mid-command); the
+// socket file is removed on the way out. Further hosts are answered "busy" at once; a host
+// silent for --idle-timeout-s loses its session; a command frame over the server's limits is
+// refused (docs/input-limits.md, Servers).
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -20,6 +21,7 @@
 #include "host/driver/link/cosim_server.hpp"
 #include "host/driver/link/null_core.hpp"
 #include "host/driver/link/socket_transport.hpp"
+#include "host/driver/link/stop_signals.hpp"
 #include "sim/error.hpp"
 #ifdef RHEO_HAVE_RTL
 #include "host/driver/verilator_transport.hpp"
@@ -28,11 +30,9 @@
 namespace rheo::cli {
 namespace {
 
-std::atomic<bool> g_stop{false};
 // A day: longer than any host thinks between commands, short enough that the milliseconds
 // fit the clock's arithmetic with room to spare.
 constexpr double kMaxIdleTimeoutS = 86400;
-extern "C" void on_stop_signal(int) { g_stop = true; }
 
 struct CosimServerArgs {
   std::string socket;
@@ -73,18 +73,18 @@ link::CoreFactory core_factory(const CosimServerArgs& args) {
 #endif
 }
 
-void run_cosim_server(const CosimServerArgs& args) {
+// Serves until a host sends shutdown (returns 0) or SIGINT/SIGTERM arrives (returns the exit
+// status for it, 130 or 143); the socket file is gone when it returns.
+int run_cosim_server(const CosimServerArgs& args) {
   const link::CoreFactory make_core = core_factory(args);
   link::SocketListener listener(args.socket);
-  g_stop = false;
-  auto old_int = std::signal(SIGINT, on_stop_signal);
-  auto old_term = std::signal(SIGTERM, on_stop_signal);
+  link::StopSignals signals(args.socket, "rheo cosim-server");
   link::ServerOptions options;
   options.lanes = static_cast<std::uint32_t>(args.lanes);
   options.io_timeout = link::Milliseconds(args.timeout_ms);
   options.idle_timeout =
       link::Milliseconds(std::max<long long>(1, std::llround(args.idle_timeout_s * 1000.0)));
-  options.stop = &g_stop;
+  options.stop = signals.flag();
   if (!args.quiet) {
     options.log = [](const std::string& line) {
       std::cerr << "rheo cosim-server: " << line << "\n";
@@ -94,9 +94,14 @@ void run_cosim_server(const CosimServerArgs& args) {
               << args.idle_timeout_s << " s)\n";
   }
   link::serve(listener, make_core, options);
-  std::signal(SIGINT, old_int);
-  std::signal(SIGTERM, old_term);
-  if (!args.quiet) std::cerr << "rheo cosim-server: stopped\n";
+  if (!args.quiet) {
+    std::cerr << "rheo cosim-server: stopped"
+              << (signals.signal_number() == SIGINT    ? " by SIGINT"
+                  : signals.signal_number() == SIGTERM ? " by SIGTERM"
+                                                       : "")
+              << "\n";
+  }
+  return signals.exit_status();
 }
 
 }  // namespace
@@ -138,7 +143,11 @@ void register_cosim_server(CLI::App& app) {
           },
           "SECONDS", "idle timeout"));
   cmd->add_flag("--quiet", args->quiet, "No session log on stderr");
-  cmd->callback([args] { run_cosim_server(*args); });
+  cmd->callback([args] {
+    // A signal ends the process with 128 + its number, as a shell reports it; the listener
+    // has removed the socket file by now.
+    if (const int status = run_cosim_server(*args); status != 0) std::exit(status);
+  });
 }
 
 }  // namespace rheo::cli

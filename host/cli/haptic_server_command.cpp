@@ -1,10 +1,11 @@
 // `rheo haptic-server --scenario NAME --socket PATH`: a scene with tools stepped one step per
 // client command, the client giving the tools' poses and getting their reactions back, over
 // the link framing (host/haptic/haptic_link.hpp, docs/haptics.md). Serves clients one after
-// another, each with the scene at rest, until one sends shutdown or SIGINT/SIGTERM arrives; a
-// client that disconnects (even mid-step) ends only its own session.
-#include <atomic>
+// another, each with the scene at rest, until one sends shutdown or SIGINT/SIGTERM arrives (exit
+// status 130/143, within a second even mid-step); a client that disconnects (even mid-step)
+// ends only its own session.
 #include <csignal>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -12,14 +13,12 @@
 #include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "host/driver/link/socket_transport.hpp"
+#include "host/driver/link/stop_signals.hpp"
 #include "host/haptic/haptic_link.hpp"
 #include "sim/scenario.hpp"
 
 namespace rheo::cli {
 namespace {
-
-std::atomic<bool> g_haptic_stop{false};
-extern "C" void on_haptic_stop(int) { g_haptic_stop = true; }
 
 struct HapticServerArgs {
   std::string socket;
@@ -30,32 +29,31 @@ struct HapticServerArgs {
   bool quiet = false;
 };
 
-void run_haptic_server(const HapticServerArgs& args) {
+// Serves until a client sends shutdown (returns 0) or SIGINT/SIGTERM arrives (returns the exit
+// status for it, 130 or 143); the socket file is gone when it returns.
+int run_haptic_server(const HapticServerArgs& args) {
   const Scenario scenario = load_scenario(args.scenario);
   link::SocketListener listener(args.socket);
-  g_haptic_stop = false;
-  auto old_int = std::signal(SIGINT, on_haptic_stop);
-  auto old_term = std::signal(SIGTERM, on_haptic_stop);
+  link::StopSignals signals(args.socket, "rheo haptic-server");
   haptic::ServerOptions options;
   options.backend = args.backend;
   options.io_timeout = link::Milliseconds(args.timeout_ms);
   options.idle_timeout = link::Milliseconds(static_cast<long long>(args.idle_timeout_s * 1000.0));
-  options.stop = &g_haptic_stop;
+  options.stop = signals.flag();
   if (!args.quiet) {
     options.log = [](const std::string& line) { std::cerr << "rheo haptic-server: " << line << "\n"; };
     std::cerr << "rheo haptic-server: " << scenario.name << " on " << args.backend
               << ", listening on " << args.socket << "\n";
   }
-  try {
-    haptic::serve(listener, scenario, options);
-  } catch (...) {
-    std::signal(SIGINT, old_int);
-    std::signal(SIGTERM, old_term);
-    throw;
+  haptic::serve(listener, scenario, options);
+  if (!args.quiet) {
+    std::cerr << "rheo haptic-server: stopped"
+              << (signals.signal_number() == SIGINT    ? " by SIGINT"
+                  : signals.signal_number() == SIGTERM ? " by SIGTERM"
+                                                       : "")
+              << "\n";
   }
-  std::signal(SIGINT, old_int);
-  std::signal(SIGTERM, old_term);
-  if (!args.quiet) std::cerr << "rheo haptic-server: stopped\n";
+  return signals.exit_status();
 }
 
 }  // namespace
@@ -81,7 +79,11 @@ void register_haptic_server(CLI::App& app) {
                   "Drop a client that sends nothing for this many seconds (default 60)")
       ->check(number_in(0.001, 86400.0, "a time in seconds"));
   cmd->add_flag("--quiet", args->quiet, "No session log on stderr");
-  cmd->callback([args] { run_haptic_server(*args); });
+  cmd->callback([args] {
+    // A signal ends the process with 128 + its number, as a shell reports it; the listener
+    // has removed the socket file by now.
+    if (const int status = run_haptic_server(*args); status != 0) std::exit(status);
+  });
 }
 
 }  // namespace rheo::cli

@@ -28,6 +28,7 @@ class FaultyByteTransport : public ByteTransport {
     inner_->send(bytes, timeout);
   }
   void close_send() override { inner_->close_send(); }
+  bool peer_hung_up() override { return inner_->peer_hung_up(); }
   std::string name() const override { return inner_->name() + " (fault-injecting)"; }
 
   std::optional<std::size_t> receive(std::span<std::uint8_t> buffer,

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <csignal>
 #include <filesystem>
+#include <iostream>
 #include <thread>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -192,6 +194,100 @@ TEST(HapticServerCli, ServesAClientAndStopsWhenAsked) {
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
   EXPECT_FALSE(std::filesystem::exists(path));  // the socket file is removed on the way out
+}
+
+// `rheo haptic-server` started as a user starts it; killed at the end if still running.
+class HapticServerProcess {
+ public:
+  explicit HapticServerProcess(const std::string& path) {
+    pid_ = ::fork();
+    if (pid_ < 0) throw Error("fork failed");
+    if (pid_ == 0) {
+      ::execl(RHEO_BINARY, RHEO_BINARY, "haptic-server", "--scenario", "press_sphere", "--socket",
+              path.c_str(), "--quiet", static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+  }
+  ~HapticServerProcess() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  void signal(int sig) const { ::kill(pid_, sig); }
+  // The exit status (128 + the signal if a signal killed it) within `limit`, -1 if still running.
+  int wait(std::chrono::milliseconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (pid_ > 0) {
+      int status = 0;
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      if (std::chrono::steady_clock::now() > end) return -1;
+      std::this_thread::sleep_for(10ms);
+    }
+    return -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+// A signal while a client steps the scene stops the server within the bound, with the exit
+// status a shell expects and the socket file removed; a server started again at the same path
+// serves a good client with the library's numbers.
+void expect_the_signal_stops_it_mid_session(int sig, int status) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("rheo-haptic-signal-" + std::to_string(::getpid()) + ".sock"))
+                               .string();
+  {
+    HapticServerProcess server(path);
+    std::atomic<int> steps{0};
+    std::thread client([&] {
+      try {
+        HapticClient c(path, 20000ms);  // retries while the server starts
+        for (int i = 1;; ++i) {
+          const ToolPose p = sphere_at(std::min(i, 1000));  // then held 10 mm down
+          c.step({&p, 1});
+          ++steps;
+        }
+      } catch (const Error&) {
+        // The server went away mid-session: what this test does to it.
+      }
+    });
+    const auto started = std::chrono::steady_clock::now();
+    while (steps < 50 && std::chrono::steady_clock::now() - started < 20s) {
+      std::this_thread::sleep_for(10ms);
+    }
+    ASSERT_GE(steps.load(), 50) << "the client was never served";
+    const auto t0 = std::chrono::steady_clock::now();
+    server.signal(sig);
+    const int got = server.wait(5000ms);
+    const auto took = std::chrono::steady_clock::now() - t0;
+    client.join();
+    std::cout << "stopped " << std::chrono::duration_cast<std::chrono::milliseconds>(took).count()
+              << " ms after the signal, status " << got << "\n";
+    EXPECT_EQ(got, status);
+    EXPECT_FALSE(std::filesystem::exists(path));
+  }
+  HapticServerProcess again(path);
+  HapticClient client(path, 20000ms);
+  HapticSession local(load_scenario("press_sphere"));
+  for (int i = 1; i <= 200; ++i) {
+    const ToolPose p = sphere_at(i);
+    ASSERT_EQ(client.step({&p, 1}).reactions[0].force, local.step({&p, 1})[0].force);
+  }
+  client.close(/*stop_server=*/true);
+  EXPECT_EQ(again.wait(5000ms), 0);
+}
+
+TEST(HapticServerCli, SigtermWhileAClientStepsStopsItWithStatus143) {
+  expect_the_signal_stops_it_mid_session(SIGTERM, 143);
+}
+
+TEST(HapticServerCli, SigintWhileAClientStepsStopsItWithStatus130) {
+  expect_the_signal_stops_it_mid_session(SIGINT, 130);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // `rheo cosim-server` as a real subprocess with the Verilator core: bit-identical results to
 // the in-process RTL device, and the faults only a separate process can show (killed, hung,
-// shut down, terminated). Bounded timeouts everywhere; sockets live in a fresh temp dir.
+// shut down, terminated, a huge READ whose host hangs up). Bounded timeouts everywhere; sockets live in a fresh temp dir.
 #include <signal.h>
 #include <spawn.h>
 #include <sys/stat.h>
@@ -16,8 +16,12 @@
 #include <filesystem>
 #include <thread>
 
+#include "hls/frame_format.hpp"
 #include "host/driver/device.hpp"
 #include "host/driver/link/backend_run.hpp"
+#include "host/driver/link/frame_channel.hpp"
+#include "host/driver/link/link_client.hpp"
+#include "host/driver/link/socket_transport.hpp"
 #include "host/driver/link/link_error.hpp"
 #include "host/driver/link/remote_transport.hpp"
 #include "host/driver/link/streaming_run.hpp"
@@ -186,12 +190,44 @@ TEST(CosimServer, ShutdownFrameStopsTheServerAndRemovesItsSocket) {
   EXPECT_FALSE(std::filesystem::exists(server.socket()));
 }
 
-TEST(CosimServer, SigtermStopsTheServerCleanly) {
+TEST(CosimServer, SigtermStopsTheServerCleanlyWithStatus143) {
   ServerProcess server;
   { auto remote = RemoteTransport::connect_socket(server.socket(), kServerTimeout); }
   server.signal(SIGTERM);
-  EXPECT_EQ(server.wait(), 0);
+  EXPECT_EQ(server.wait(), 143);
   EXPECT_FALSE(std::filesystem::exists(server.socket()));
+}
+
+// The hostile tester's READ of 2^24 - 1 entries kept the RTL core clocking out 117 M words for
+// minutes after its host had gone, turning every other host away as busy. Now it is refused
+// before the core sees it, and the next host is served at once with a fresh core.
+TEST(CosimServer, AHugeReadWhoseHostHangsUpIsRefusedAndTheNextHostIsServed) {
+  ServerProcess server;
+  {
+    auto attacker = SocketTransport::connect(server.socket(), kServerTimeout);
+    FrameChannel channel(*attacker, "cosim-server");
+    const std::uint32_t hello[] = {kLinkProtocol, 0, kMaxPayloadBytes};
+    channel.send_words(FrameType::kHello, hello, kServerTimeout);
+    ASSERT_EQ(channel.receive(kServerTimeout).type, FrameType::kHello);
+    const std::uint32_t read[] = {frame::header(frame::kOpRead, frame::kRegionMaterial, 0xFFFFFF),
+                                  0};
+    channel.send_words(FrameType::kCommand, read, kServerTimeout);
+  }  // hangs up without waiting for an answer
+  const Workload& w = workload();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  std::unique_ptr<driver::Device> remote;
+  while (!remote) {
+    try {
+      remote = connect(server);
+    } catch (const LinkError& e) {
+      ASSERT_EQ(e.fault(), LinkFault::kBusy) << e.what();
+      ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "still busy: " << e.what();
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+  remote->load(w.image);
+  remote->run({w.plate_word(0), w.plate_word(1)});
+  EXPECT_EQ(remote->read_status(false).step_count, 2u);
 }
 
 TEST(CosimServer, ServesAFreshCoreToTheNextHostAfterOneLeaves) {

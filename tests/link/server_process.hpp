@@ -1,6 +1,6 @@
 // `rheo cosim-server --core bittrue` as a real subprocess in a fresh temp dir (killed and
-// removed when the object goes), for tests that drive it as a user's host would. The binary
-// is RHEO_BINARY (set by CMake).
+// removed when the object goes), for tests that drive it as a user's host would: signal it,
+// wait for its exit status. The binary is RHEO_BINARY (set by CMake).
 #pragma once
 
 #include <signal.h>
@@ -9,8 +9,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "sim/error.hpp"
@@ -22,11 +24,18 @@ namespace rheo::testing_support {
 
 class ServerProcess {
  public:
-  explicit ServerProcess(const std::vector<std::string>& extra_args = {}) {
-    char dir_template[] = "/tmp/rheo-cosim-cli-XXXXXX";
-    if (!::mkdtemp(dir_template)) throw rheo::Error("mkdtemp failed");
-    dir_ = dir_template;
-    socket_ = dir_ + "/core.sock";
+  // With `socket` empty the server listens in a fresh temp dir of its own (removed with it),
+  // otherwise at `socket`.
+  explicit ServerProcess(const std::vector<std::string>& extra_args = {},
+                         const std::string& socket = "") {
+    if (socket.empty()) {
+      char dir_template[] = "/tmp/rheo-cosim-cli-XXXXXX";
+      if (!::mkdtemp(dir_template)) throw rheo::Error("mkdtemp failed");
+      owned_dir_ = dir_template;
+      socket_ = owned_dir_ + "/core.sock";
+    } else {
+      socket_ = socket;
+    }
     std::vector<std::string> args = {RHEO_BINARY, "cosim-server", "--socket", socket_,  "--core",
                                      "bittrue",   "--lanes",      "2",        "--quiet"};
     args.insert(args.end(), extra_args.begin(), extra_args.end());
@@ -38,16 +47,34 @@ class ServerProcess {
     }
   }
   ~ServerProcess() {
-    ::kill(pid_, SIGKILL);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-    std::filesystem::remove_all(dir_);
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      int status = 0;
+      ::waitpid(pid_, &status, 0);
+    }
+    if (!owned_dir_.empty()) std::filesystem::remove_all(owned_dir_);
   }
   const std::string& socket() const { return socket_; }
-  std::string dir() const { return dir_; }
+  std::string dir() const { return std::filesystem::path(socket_).parent_path().string(); }
+  void signal(int sig) const { ::kill(pid_, sig); }
+  // The exit status once the process ends (128 + the signal if a signal killed it), waiting at
+  // most `limit`; -1 if it still runs then.
+  int wait(std::chrono::milliseconds limit) {
+    const auto end = std::chrono::steady_clock::now() + limit;
+    while (pid_ > 0) {
+      int status = 0;
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      if (std::chrono::steady_clock::now() > end) return -1;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return -1;
+  }
 
  private:
-  std::string dir_, socket_;
+  std::string owned_dir_, socket_;
   pid_t pid_ = -1;
 };
 

@@ -78,6 +78,26 @@ TEST(SocketTransport, FullPeerThatNeverReadsIsATimeout) {
   }
 }
 
+// What the server looks at between pieces of a long command: a peer that closed its socket
+// has hung up; one that only ended its sending direction still reads its answers.
+TEST(SocketTransport, APeerThatClosesHasHungUpOneThatOnlyEndsItsSendingHasNot) {
+  TempDir dir;
+  SocketListener listener(dir.file("s"));
+  auto client = SocketTransport::connect(dir.file("s"), kTimeout);
+  auto server = listener.accept(kTimeout);
+  ASSERT_NE(server, nullptr);
+  const std::uint8_t bytes[] = {1, 2, 3};
+  client->send(bytes, kTimeout);
+  EXPECT_FALSE(server->peer_hung_up());
+  client->close_send();
+  EXPECT_FALSE(server->peer_hung_up());
+  client.reset();
+  EXPECT_TRUE(server->peer_hung_up());
+  std::uint8_t buffer[8];
+  EXPECT_EQ(server->receive(buffer, kTimeout), std::optional<std::size_t>(3))
+      << "bytes sent before the hang-up stay readable";
+}
+
 TEST(SocketListener, RefusesAPathWhereAnotherServerAnswers) {
   TempDir dir;
   SocketListener first(dir.file("s"));

@@ -29,6 +29,10 @@ class ByteTransport {
                                              Milliseconds timeout) = 0;
   // Ends the sending direction so the peer reads end-of-stream (its receive returns 0).
   virtual void close_send() = 0;
+  // True once the peer has closed its end for good, so nothing sent reaches it any more (a peer
+  // that only ended its sending direction still reads: false). Never blocks; bytes the peer
+  // sent before it went stay readable. Lets a server drop work whose answer nobody will read.
+  virtual bool peer_hung_up() = 0;
   // For messages: "unix socket /tmp/r.sock".
   virtual std::string name() const = 0;
 };

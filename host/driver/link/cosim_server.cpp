@@ -11,6 +11,8 @@
 #include <optional>
 #include <thread>
 
+#include "host/driver/link/command_runner.hpp"
+#include "host/driver/link/frame_budget.hpp"
 #include "host/driver/link/frame_channel.hpp"
 #include "host/driver/link/link_client.hpp"
 #include "host/driver/link/link_error.hpp"
@@ -208,7 +210,8 @@ SessionEnd serve_session(ByteTransport& bytes, const CoreFactory& make_core,
     channel.send_words(FrameType::kHello, reply, options.io_timeout);
     std::unique_ptr<driver::Transport> core = make_core();
     log(options, "session started with " + core->name());
-    CommandTracker tracker;
+    FrameBudget budget;
+    CommandRunner runner(*core, channel, options.stop, options.io_timeout);
     for (;;) {
       std::optional<Frame> frame;
       switch (next_frame(channel, options.idle_timeout, options, frame)) {
@@ -223,11 +226,17 @@ SessionEnd serve_session(ByteTransport& bytes, const CoreFactory& make_core,
       switch (frame->type) {
         case FrameType::kCommand: {
           const std::vector<std::uint32_t> words = frame->words();
-          std::uint64_t owed = 0;
-          for (std::uint32_t w : words) owed += tracker.accept(w);
-          core->send(words);
-          if (owed > 0) {
-            channel.send_words(FrameType::kResponse, core->receive(owed), options.io_timeout);
+          const std::uint64_t number = channel.frames_received() - 1;
+          budget.weigh(words, number);  // refused before the core sees a word of it
+          switch (runner.run(words)) {
+            case RunEnd::kDone:
+              break;
+            case RunEnd::kHostHungUp:
+              log(options, "host hung up during command frame " + std::to_string(number) +
+                               ": the rest of its work was dropped");
+              return SessionEnd::kHostLeft;
+            case RunEnd::kStopped:
+              return SessionEnd::kStopped;
           }
           break;
         }

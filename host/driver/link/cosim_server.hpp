@@ -8,6 +8,11 @@
 // A link fault from the host (bad CRC, truncation, gap) or a core error ends the session with
 // an error frame naming it; the server then waits for the next host with a fresh core.
 //
+// Bounded work: each command frame is weighed before the core sees a word of it (response
+// words and steps, summed over its commands, frame_budget.hpp); one over the limits ends the
+// session with an error frame naming the limit. An accepted frame runs piece by piece
+// (command_runner.hpp): a host that hangs up or a stop request ends it within a piece.
+//
 // One host at a time, because one server drives one core (one board later): while a session
 // runs, serve() keeps accepting on the listener and answers every further host at once with a
 // "server busy" error frame (link_frame.hpp) instead of leaving it in the backlog until its
@@ -35,7 +40,9 @@ struct ServerOptions {
   // "idle for N s: session closed" error frame and the core freed for the next host. Long, as
   // a host may think between commands; it only guards against a host that hung or forgot.
   Milliseconds idle_timeout{60000};
-  const std::atomic<bool>* stop = nullptr;      // set (e.g. by a signal handler) to end serving
+  // Set (e.g. by a signal handler) to end serving; seen while waiting and between the pieces
+  // of a running command frame.
+  const std::atomic<bool>* stop = nullptr;
   std::function<void(const std::string&)> log;  // one line per session event; may be empty
 };
 

@@ -64,6 +64,12 @@ class CommandTracker {
   std::uint32_t accept(std::uint32_t word);
   // True between commands (the next word is a header).
   bool at_command_boundary() const { return phase_ == Phase::kHeader; }
+  // True when the next word is a RUN's plate word: one step of the core.
+  bool expects_plate_word() const { return phase_ == Phase::kRunPlates; }
+  // The header of the command the last accepted word belongs to.
+  std::uint32_t current_header() const { return header_; }
+  // Command words accepted so far.
+  std::uint64_t words_seen() const { return words_seen_; }
 
  private:
   enum class Phase { kHeader, kWriteIndex, kWriteData, kRunPlates, kReadIndex };

@@ -113,10 +113,27 @@ void LinkClient::rethrow_if_failed() {
 
 void LinkClient::send(std::span<const std::uint32_t> words) {
   rethrow_if_failed();
-  for (std::uint32_t w : words) owed_words_ += tracker_.accept(w);
+  // Frames within the server's limits (frame_budget.hpp) and the payload limit, all cut before
+  // any is sent, so that a bad command word is refused with nothing sent.
+  constexpr std::size_t max_words = kMaxPayloadBytes / 4;
+  FrameBudget budget = budget_;
+  std::vector<std::size_t> frame_words;
+  std::uint64_t owed = 0;
+  for (std::size_t pos = 0; pos < words.size();) {
+    FrameCost cost;
+    frame_words.push_back(budget.take_frame(words.subspan(pos), max_words, cost));
+    owed += cost.answer_words;
+    pos += frame_words.back();
+  }
+  budget_ = budget;
+  owed_words_ += owed;
   command_words_ += words.size();
   try {
-    channel_.send_words(FrameType::kCommand, words, timeout_);
+    std::size_t pos = 0;
+    for (const std::size_t n : frame_words) {
+      channel_.send_words(FrameType::kCommand, words.subspan(pos, n), timeout_);
+      pos += n;
+    }
   } catch (const LinkError&) {
     // A send that fails because the server died is best explained by what the reader saw.
     std::this_thread::sleep_for(2 * kReaderSlice);

@@ -4,7 +4,8 @@
 //
 // Bounded memory: the client counts the response words each command makes the core owe
 // (CommandTracker); callers keep that number under a window of their choosing before sending
-// more, so the reader's queue never holds more than the window.
+// more, so the reader's queue never holds more than the window. Sends are cut into frames
+// within the server's limits (frame_budget.hpp), so any run or read of a host is served.
 #pragma once
 
 #include <atomic>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "host/driver/link/byte_transport.hpp"
+#include "host/driver/link/frame_budget.hpp"
 #include "host/driver/link/frame_channel.hpp"
 
 namespace rheo::link {
@@ -73,7 +75,7 @@ class LinkClient {
   FrameChannel channel_;
   Milliseconds timeout_;
   PeerInfo peer_info_;
-  CommandTracker tracker_;
+  FrameBudget budget_;  // cuts sends into frames within the server's limits
   std::uint64_t owed_words_ = 0;
   std::uint64_t command_words_ = 0;
   std::uint64_t response_words_ = 0;

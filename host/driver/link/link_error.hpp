@@ -23,6 +23,7 @@ enum class LinkFault {
   kIdleTimeout,     // the server closed the session because the host sent nothing for too long
   kProtocol,        // well-formed frames with unexpected content (e.g. wrong response length)
   kDeviceOverflow,  // the core raised its sticky overflow flags: its numbers are not valid
+  kOverLimit,       // a command frame asks the server for more than its limits (frame_budget.hpp)
   kIo,              // an operating-system error on the transport
 };
 

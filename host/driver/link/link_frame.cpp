@@ -54,6 +54,8 @@ const char* to_string(LinkFault fault) {
       return "protocol error";
     case LinkFault::kDeviceOverflow:
       return "device overflow";
+    case LinkFault::kOverLimit:
+      return "over the server's limits";
     case LinkFault::kIo:
       return "I/O error";
   }

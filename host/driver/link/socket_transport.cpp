@@ -119,6 +119,14 @@ std::optional<std::size_t> SocketTransport::receive(std::span<std::uint8_t> buff
 
 void SocketTransport::close_send() { ::shutdown(fd_, SHUT_WR); }
 
+bool SocketTransport::peer_hung_up() {
+  // A Unix stream socket reports POLLHUP once both directions are shut, which for our end
+  // means the peer closed its socket (or its process died); the peer's SHUT_WR alone only
+  // marks our receive side ended (POLLRDHUP), and such a peer still reads our answers.
+  pollfd p{fd_, 0, 0};
+  return ::poll(&p, 1, 0) > 0 && (p.revents & (POLLHUP | POLLERR)) != 0;
+}
+
 SocketListener::SocketListener(std::string path) : path_(std::move(path)) {
   const sockaddr_un addr = address_of(path_);
   struct stat st {};

@@ -24,6 +24,7 @@ class SocketTransport : public ByteTransport {
   void send(std::span<const std::uint8_t> bytes, Milliseconds timeout) override;
   std::optional<std::size_t> receive(std::span<std::uint8_t> buffer, Milliseconds timeout) override;
   void close_send() override;
+  bool peer_hung_up() override;
   std::string name() const override { return name_; }
 
  private:
