@@ -30,8 +30,7 @@
 //     f = sum of +F_k (i = s) and -F_k (i = e)
 //     p += minv * f + g;  x += p
 //     fixed: x = x0, p = 0
-//     plate particle on or above the plate (z >= plate_z): z = plate_z,
-//       p.z = min(p.z, plate_z - z_start),
+//     plate particle above the plate: z = plate_z, p.z = min(p.z, plate_z - z_start),
 //       plate force += f.z
 //     with hold-while-pushing on, a plate particle the plate held in the previous step
 //       (z_start = the previous plate height) that pushes (f.z > 0): z = plate_z,
@@ -913,14 +912,8 @@ inline std::int64_t mpm_particle(MpmParticle& q, const std::int64_t f[3], const 
       p[i] = 0;
     }
   } else if ((q.flags & kCorePlate) && g.plate_enable &&
-             (x[2] >= g.plate_z || (g.plate_hold && g.plate_prev_valid &&
+             (x[2] > g.plate_z || (g.plate_hold && g.plate_prev_valid &&
                                    q.x[2] == g.plate_z_prev && f[2] > 0))) {
-    // A particle whose rounded position lands on the plate (x.z == plate_z) touches it.
-    // The reference's rule is x.z > plate_z on exact values, where a tie does not occur;
-    // here the tie is the usual case of a held particle whose force moves it less than
-    // half a position LSB per step (dt^2 f / m), and counting it as off the plate dropped
-    // its force: exact-zero plate forces at large mass scales (docs/hardware.md, "Plate
-    // rules").
     // The held particle moves with the plate: p.z <= plate_z - z_start (as the reference
     // simulator does), so the edges see the plate's strain rate; a particle kept because
     // it pushes moves exactly with the plate.
@@ -929,7 +922,7 @@ inline std::int64_t mpm_particle(MpmParticle& q, const std::int64_t f[3], const 
         saturate(shift_round<R>(i128(g.plate_z) - q.x[2], -(Fmt::kFracP - Fmt::kFracX)), W,
                  &lim_status, kFlag);
     *status |= lim_status;
-    if (x[2] >= g.plate_z) {
+    if (x[2] > g.plate_z) {
       if (p[2] > lim) p[2] = lim;
     } else {
       p[2] = lim;

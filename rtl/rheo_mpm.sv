@@ -3,8 +3,7 @@
 // constraints:
 //   p += minv f + g;  x += p                     (minv = Fu dt^2 / (m Lu), g in P format)
 //   fixed: x = x0, p = 0
-//   plate particle on or above the plate (z >= plate_z: a rounded z equal to plate_z
-//     touches it): z = plate_z, p.z = min(p.z, plate_z - z_start),
+//   plate particle above the plate: z = plate_z, p.z = min(p.z, plate_z - z_start),
 //     plate_f = f.z  (the held particle moves with the plate, as in the reference model)
 //   with hold_en_i, a plate particle held in the previous step (z_start = plate_prev_i)
 //     that pushes (f.z > 0): z = plate_z, p.z = plate_z - z_start, plate_f = f.z
@@ -26,7 +25,7 @@
 //   5 p  = sat(p1 + g); lim = the clamp bound (plate_z - z_start) << 4, saturated
 //   6 x  = sat(x + round(p >> 4)) (one carry chain, the rounding bit as carry-in);
 //     fixed particles take x0 and p = 0 here; p.z > lim
-//   7 constraints: plate (z >= plate_z, 32-bit compare) and floor
+//   7 constraints: plate (z > plate_z, 32-bit compare) and floor
 // The coefficient shift works on prod << 28 shifted right by t (t = stored shift field;
 // s = t - 27 is the net right shift of hls::mul_coef with CoefShifts::kMinv), so every
 // shift is a right shift that keeps one bit below the result's LSB for the rounding.
@@ -242,7 +241,7 @@ module rheo_mpm #(
       clip6[i] = x_c[i][W];
     end
     // stage 7: plate and floor (fixed particles were settled at stage 6)
-    hold = flags_q[6][1] && !flags_q[6][0] && plate_en_i && xn_q[2] >= $signed(plate_z_i);
+    hold = flags_q[6][1] && !flags_q[6][0] && plate_en_i && xn_q[2] > $signed(plate_z_i);
     stick = flags_q[6][1] && !flags_q[6][0] && plate_en_i && !hold && hold_en_i &&
             was_held_q && fz_pos_q;
     on_floor = !flags_q[6][0] && !hold && !stick && floor_en_i && xn_q[2][W-1];

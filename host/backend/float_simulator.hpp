@@ -10,7 +10,6 @@
 #pragma once
 
 #include <Eigen/Geometry>
-#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -90,8 +89,7 @@ class SieLoop {
       }
       const Real z_start = x_[i][2];
       explicit_update<Real, V>(model_, i, f_[i], g, nullptr, dt_, x_[i], v_[i]);
-      if (touches_plate(i, z_start, plate_z) ||
-          apply_floor_and_plate<Real, V>(model_, i, z_start, plate_z, dt_, f_[i][2], x_[i], v_[i],
+      if (apply_floor_and_plate<Real, V>(model_, i, z_start, plate_z, dt_, f_[i][2], x_[i], v_[i],
                                          held_[i])) {
         plate_force += f_[i][2];
       }
@@ -159,23 +157,6 @@ class SieLoop {
       for (int k = 0; k < nv; ++k)
         for (int c = 0; c < 3; ++c) f_[element_vertex(model_, el, k)][c] += pressure * grad[k][c];
     }
-  }
-
-  // The plate rule's tie (the hardware's rule, hls::mpm_particle): a plate particle whose
-  // rounded position lands exactly on the plate touches it, and is held as one above it is
-  // (apply_floor_and_plate's first branch). The shared rule tests x.z > plate_z, which on
-  // exact values never ties; in Real the tie is the usual case of a held particle whose
-  // force moves it less than half a position unit per step (dt^2 f / m), and counting it as
-  // off the plate dropped its force (exact-zero plate forces on stiff, mass-scaled blocks;
-  // docs/backends.md, "Plate force resolution"). For double it changes nothing on the runs
-  // SieLoop.InstantiatedForDoubleReproducesTheReferenceSimulatorBitForBit compares.
-  bool touches_plate(int i, Real z_start, Real plate_z) {
-    if (model_.flags[i] != kPlate || !(x_[i][2] == plate_z)) return false;
-    if (model_.floor && x_[i][2] < Real(0)) return false;  // the floor comes first
-    const Real plate_velocity = (plate_z - z_start) * (Real(1) / dt_);
-    v_[i][2] = std::min(v_[i][2], plate_velocity);
-    held_[i] = 1;
-    return true;
   }
 
   const Model& model_;

@@ -94,37 +94,5 @@ TEST(BitTrueCsim, OneAndTwoLanesGiveIdenticalWords) {
   EXPECT_EQ(states[0], states[1]);
 }
 
-// The plate rule on rounded positions: a plate particle whose update lands exactly on the
-// plate (x.z + round(p.z) == plate_z) touches it, is held and its force counts. Counted as
-// off the plate (the rule was x.z > plate_z), a held particle whose force moves it less
-// than half an X LSB per step dropped its force: exact-zero plate forces at large mass
-// scales (issue 40).
-TEST(BitTrueCsim, APlateParticleWhoseUpdateLandsOnThePlateTouchesIt) {
-  using Fmt = hls::HardwareFormat;
-  hls::MpmGlobals g;
-  g.plate_enable = true;
-  g.floor_enable = true;
-  g.plate_z = std::int64_t(5) << Fmt::kFracX;  // 5 Lu
-  hls::MpmParticle q{};
-  q.flags = hls::kCorePlate;
-  q.minv = hls::Coef{0, 0};  // no velocity change: p.z carries it exactly onto the plate
-  q.x[2] = g.plate_z - 100;
-  q.p[2] = std::int64_t(100) << (Fmt::kFracP - Fmt::kFracX);
-  const std::int64_t f[3] = {0, 0, 1000};  // pushes into the plate
-  std::uint32_t status = 0;
-  const std::int64_t plate_force = hls::mpm_particle<Fmt>(q, f, g, &status);
-  EXPECT_EQ(status, 0u);
-  EXPECT_EQ(q.x[2], g.plate_z);
-  EXPECT_EQ(plate_force, f[2]) << "a particle on the plate is held and its force counts";
-  EXPECT_EQ(q.p[2], std::int64_t(100) << (Fmt::kFracP - Fmt::kFracX))
-      << "p.z = min(p.z, plate_z - z_start)";
-  // One LSB below the plate it is free, as before.
-  hls::MpmParticle below = q;
-  below.x[2] = g.plate_z - 101;
-  below.p[2] = std::int64_t(100) << (Fmt::kFracP - Fmt::kFracX);
-  EXPECT_EQ(hls::mpm_particle<Fmt>(below, f, g, &status), 0);
-  EXPECT_EQ(below.x[2], g.plate_z - 1);
-}
-
 }  // namespace
 }  // namespace rheo::driver
