@@ -79,6 +79,11 @@ struct Model {
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);        // [m/s^2]
   bool floor = true;                           // unilateral floor at z = 0
   PlateContact plate_contact = PlateContact::kPenetration;
+  // A gripping plate: a particle the plate holds does not slide along it (its x and y stay
+  // where they were when the step began, its lateral velocity is 0), as clay sticks to a
+  // platen. Without it the plate is frictionless, and a slender lattice pressed and held
+  // long enough can buckle sideways under it (docs/model.md, "Plate grip").
+  bool plate_grip = false;
   TopologyMaintenance topology;
   VolumePreservation volume;
   // Several objects in one model (docs/contact.md): the object of each particle (empty: all

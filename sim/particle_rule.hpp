@@ -30,12 +30,15 @@ void explicit_update(const Model& model, int i, const Vec& f, const Vec& g, cons
 }
 
 // The floor and, for a plate particle, the plate rule at height plate_z, after the update
-// moved the particle from height z_start. `held` is whether the plate held the particle in
-// the previous step; it is updated. Returns true when the plate holds the particle now: its
-// force_z then counts in the plate force.
+// moved the particle from `start` (its position when the step began). `held` is whether the
+// plate held the particle in the previous step; it is updated. Returns true when the plate
+// holds the particle now: its force_z then counts in the plate force. With
+// Model::plate_grip a held particle keeps its lateral position (x, y of `start`) and has
+// no lateral velocity.
 template <typename Real, typename Vec>
-bool apply_floor_and_plate(const Model& model, int i, Real z_start, Real plate_z, Real dt,
+bool apply_floor_and_plate(const Model& model, int i, const Vec& start, Real plate_z, Real dt,
                            Real force_z, Vec& x, Vec& v, std::uint8_t& held) {
+  const Real z_start = start[2];
   if (model.floor && x[2] < Real(0)) {
     x[2] = Real(0);
     v[2] = std::max(v[2], Real(0));
@@ -57,6 +60,12 @@ bool apply_floor_and_plate(const Model& model, int i, Real z_start, Real plate_z
     return false;
   }
   held = 1;
+  if (model.plate_grip) {
+    for (int c = 0; c < 2; ++c) {
+      x[c] = start[c];
+      v[c] = Real(0);
+    }
+  }
   return true;
 }
 

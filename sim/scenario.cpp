@@ -295,9 +295,10 @@ void read_protocol(const Field& protocol, Scenario& s) {
                           ? PlateContact::kPenetration
                           : PlateContact::kHoldWhilePushing;
   }
+  if (protocol.has("plate_grip")) s.plate_grip = protocol["plate_grip"].boolean();
   if (type == "push_hold_release") {
     protocol.expect_object(
-        {"type", "depth_mm", "speed_mm_s", "hold_s", "after_s", "plate_contact"});
+        {"type", "depth_mm", "speed_mm_s", "hold_s", "after_s", "plate_contact", "plate_grip"});
     const Field depth = protocol["depth_mm"];
     const double depth_mm = depth.positive(" [mm]");
     if (depth_mm >= height_mm) {
@@ -308,7 +309,7 @@ void read_protocol(const Field& protocol, Scenario& s) {
         protocol["hold_s"].non_negative(" [s]"), protocol["after_s"].non_negative(" [s]"));
     return;
   }
-  protocol.expect_object({"type", "t_s", "plate_mm", "plate_contact"});
+  protocol.expect_object({"type", "t_s", "plate_mm", "plate_contact", "plate_grip"});
   const Field t_field = protocol["t_s"];
   const Field mm_field = protocol["plate_mm"];
   s.protocol.t = t_field.number_array("times [s]");
@@ -677,6 +678,7 @@ Model Scenario::build_model() const {
   // so that m * g, and with it the load on the plate, is what the real object has.
   model.gravity /= block.mass_scale;
   model.plate_contact = plate_contact;
+  model.plate_grip = plate_grip;
   validate(model);
   return model;
 }

@@ -42,6 +42,7 @@ struct Scenario {
   SimOptions options;      // dt, integrator
   PlateProtocol protocol;  // plate displacement history
   PlateContact plate_contact = PlateContact::kPenetration;  // /protocol/plate_contact
+  bool plate_grip = false;                                  // /protocol/plate_grip
   OutputSettings output;
   double duration_s = 0.0;  // default run length (protocol duration if 0)
 

@@ -123,6 +123,7 @@ Simulator::Simulator(Model model, SimOptions options)
   validate(model_);
   check_time_step(model_, options_);
   state_ = initial_state(model_);
+  watch_ = ElementWatch(model_);
 
   const int nv = element_vertex_count(model_);
   for (std::size_t el = 0; el < element_count(model_); ++el) {
@@ -303,15 +304,16 @@ StepReport Simulator::step(double plate_z) {
   ++steps_;
   state_.t += options_.dt;
   check_finite_state(model_, state_, steps_);
+  watch_.check(state_.x, state_.t);
   if (!std::isfinite(report.plate_force_N)) {
     throw Error("non-finite plate force at step " + std::to_string(steps_));
   }
   return report;
 }
 
-void Simulator::apply_contacts(int i, double z_start, double plate_z, double force_z,
+void Simulator::apply_contacts(int i, const Vec3& start, double plate_z, double force_z,
                                StepReport* report) {
-  if (apply_floor_and_plate(model_, i, z_start, plate_z, options_.dt, force_z, state_.x[i],
+  if (apply_floor_and_plate<double, Vec3>(model_, i, start, plate_z, options_.dt, force_z, state_.x[i],
                             state_.v[i], held_[i])) {
     report->plate_force_N += force_z;
     ++report->contacts;
@@ -334,9 +336,9 @@ StepReport Simulator::step_sie(double plate_z) {
       v.setZero();
       continue;
     }
-    const double z_start = x.z();
+    const Vec3 start = x;
     explicit_update(model_, i, force_[i], g, external ? &external_[i] : nullptr, dt, x, v);
-    apply_contacts(i, z_start, plate_z, force_[i].z(), &report);
+    apply_contacts(i, start, plate_z, force_[i].z(), &report);
   }
   const int ne = model_.num_edges();
   const bool any_arm = std::any_of(model_.materials.begin(), model_.materials.end(),
@@ -406,10 +408,10 @@ StepReport Simulator::step_rk4(double plate_z) {
       v.setZero();
       continue;
     }
-    const double z_start = x.z();
+    const Vec3 start = x;
     x += w * (velocity(0, i) + 2.0 * velocity(1, i) + 2.0 * velocity(2, i) + velocity(3, i));
     v += w * (accel(0, i) + 2.0 * accel(1, i) + 2.0 * accel(2, i) + accel(3, i));
-    apply_contacts(i, z_start, plate_z, stage_f_[0][i].z(), &report);
+    apply_contacts(i, start, plate_z, stage_f_[0][i].z(), &report);
   }
   for (int k = 0; k < ne; ++k) {
     const EdgeMaterial& m = model_.materials[model_.edges[k].material];

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/element_watch.hpp"
 #include "sim/model.hpp"
 
 namespace rheo {
@@ -69,7 +70,8 @@ void check_finite_state(const Model& model, const State& state, long long steps)
 //     With Model::plate_contact == kHoldWhilePushing, a plate particle held in the previous
 //     step is also held (x.z = plate_z, v.z = (plate_z - z_start)/dt, force reported) when
 //     its update would take it off the plate while its internal force still pushes the
-//     plate (F_i.z > 0); see PlateContact in model.hpp.
+//     plate (F_i.z > 0); see PlateContact in model.hpp. With Model::plate_grip a held
+//     particle also keeps the x and y it had when the step began, with v.x = v.y = 0.
 //     Why (plate_z - z_start)/dt and not 0: a held particle moves with the plate, and the
 //     three-element edge feels a length change only through ldot (its force depends on l
 //     through ldot and the clamp alone). With v.z = min(v.z, 0) the plate would teleport
@@ -88,7 +90,8 @@ class Simulator {
   Simulator(Model model, SimOptions options);
 
   // Advances one step of dt with the plate at height plate_z [m] (no contact when the
-  // plate is above every plate particle). Throws rheo::Error on non-finite state.
+  // plate is above every plate particle). Throws rheo::Error on non-finite state and when
+  // a mesh element has turned inside out (ElementWatch: a collapsed mesh is not a result).
   StepReport step(double plate_z);
 
   const Model& model() const { return model_; }
@@ -142,8 +145,8 @@ class Simulator {
   StepReport step_sie(double plate_z);
   StepReport step_rk4(double plate_z);
   // Floor and plate constraints on particle i after its update (both integrators):
-  // z_start is its height before the step, force_z the z force the plate reports.
-  void apply_contacts(int i, double z_start, double plate_z, double force_z, StepReport* report);
+  // start is its position before the step, force_z the z force the plate reports.
+  void apply_contacts(int i, const Vec3& start, double plate_z, double force_z, StepReport* report);
   StepReport apply_constraints(double plate_z, const std::vector<Vec3>& f_start);
 
   Model model_;
@@ -152,6 +155,7 @@ class Simulator {
   std::vector<Vec3> external_;
   std::vector<TopologyPair> topology_pairs_;
   std::vector<double> rest_volume_;  // signed rest area (2D) / volume (3D) per element
+  ElementWatch watch_;               // every step: an inverted element fails the run
   std::vector<std::uint8_t> held_;   // 1 where the plate held the particle in the last step
   long long steps_ = 0;
   // Contact (null without object contact); its grid is scratch, rebuilt every evaluation.

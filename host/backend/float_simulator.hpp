@@ -87,9 +87,9 @@ class SieLoop {
         v_[i] = V{Real(0), Real(0), Real(0)};
         continue;
       }
-      const Real z_start = x_[i][2];
+      const V start = x_[i];
       explicit_update<Real, V>(model_, i, f_[i], g, nullptr, dt_, x_[i], v_[i]);
-      if (apply_floor_and_plate<Real, V>(model_, i, z_start, plate_z, dt_, f_[i][2], x_[i], v_[i],
+      if (apply_floor_and_plate<Real, V>(model_, i, start, plate_z, dt_, f_[i][2], x_[i], v_[i],
                                          held_[i])) {
         plate_force += f_[i][2];
       }

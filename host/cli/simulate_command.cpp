@@ -28,7 +28,9 @@
 #include "host/output/run_summary.hpp"
 #include "host/output/staged_directory.hpp"
 #include "host/output/vtk_series.hpp"
+#include "sim/element_watch.hpp"
 #include "sim/error.hpp"
+#include "sim/hold_watch.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
 
@@ -105,6 +107,10 @@ int time_decimals(double row_interval_s) {
 // Longest run of steps handed to a backend at once: bounds the memory of a batch and the
 // delay of the progress display and of Ctrl-C.
 constexpr long long kMaxBatchSteps = 4096;
+
+// Simulated time between the hold watch's looks at the state (sim/hold_watch.hpp), on a
+// backend that keeps no state in host memory: a buckling mesh grows over seconds.
+constexpr double kWatchInterval_s = 1.0;
 
 // First step whose time reaches `t_s` (with slack against rounding), at least `after` + 1.
 long long first_step_at(double t_s, double dt, long long after) {
@@ -291,17 +297,28 @@ void run_simulate(const SimulateArgs& args) {
   // keeps rounding in i * dt from skipping one.
   const double slack = 1e-9 * dt;
   double next_csv = csv_interval, next_vtk = vtk_interval;
+  // The hold watch looks at the state at least once a simulated second (kWatchInterval_s).
+  const double watch_interval = std::min(kWatchInterval_s, vtk_interval);
+  double next_watch = watch_interval;
   output::RunSummary figures(scenario.protocol);
   figures.add(0.0, 0.0, 0.0);
   const auto start = Clock::now();
   // One step's result, whatever computed it: the CSV row, the VTK frame and the progress.
   // `state` is null on steps whose state the backend was not asked for.
   long long done_before = 0;  // steps before the current batch
+  // Whatever computed the state, a mesh turned inside out is not a result: the run fails
+  // with the element, place and time (sim/element_watch.hpp), and no output is committed.
+  const ElementWatch watch(model);
+  HoldWatch hold_watch(model);
   auto record = [&](long long i, double plate_mm, double force_N, const State* state) {
     const double t = i * dt;
     if (!std::isfinite(force_N)) {
       throw Error("non-finite plate force at step " + std::to_string(i) + " (t = " + format(t) +
                   " s): the run is numerically unstable");
+    }
+    if (state) {
+      watch.check(state->x, t);
+      if (scenario.plate) hold_watch.check(t, plate_mm, force_N, *state);
     }
     const double surface = state ? surface_displacement_mm(model, *state, centre)
                                  : std::numeric_limits<double>::quiet_NaN();
@@ -341,7 +358,8 @@ void run_simulate(const SimulateArgs& args) {
   std::vector<ToolPose> poses;
   long long done = 0;
   while (done < steps) {
-    long long end = std::min({steps, done + kMaxBatchSteps, first_step_at(next_vtk, dt, done)});
+    long long end = std::min({steps, done + kMaxBatchSteps, first_step_at(next_vtk, dt, done),
+                              first_step_at(next_watch, dt, done)});
     if (resident) end = std::min(end, first_step_at(next_csv, dt, done));
     plate_z.clear();
     poses.clear();
@@ -356,9 +374,11 @@ void run_simulate(const SimulateArgs& args) {
         tools > 0 ? engine->run_tools(plate_z, poses, reactions) : engine->run(plate_z);
     done_before = done;
     const bool frame_due = end == steps || end * dt >= next_vtk - slack;
+    const bool watch_due = end * dt >= next_watch - slack;
+    while (next_watch <= end * dt + slack) next_watch += watch_interval;
     State read_back;
     const State* end_state = engine->resident_state();
-    if (!end_state && frame_due) {
+    if (!end_state && (frame_due || watch_due)) {
       read_back = engine->state();
       end_state = &read_back;
     }

@@ -463,6 +463,9 @@ Model hardware_model(const Model& model, std::vector<std::string>* dropped,
   }
   if (hw.topology.enabled) notes.push_back("topology-maintenance forces");
   hw.topology.enabled = false;
+  // The cores' plate rule holds the vertical only: a gripping plate is left out, with a note.
+  if (hw.plate_grip) notes.push_back("the plate's grip (the cores' plate holds z only)");
+  hw.plate_grip = false;
   if (hw.volume.enabled && !element.volume_preservation) {
     notes.push_back(std::string(hw.dim == 2 ? "area" : "volume") + "-preserving forces (the " +
                     std::string(element.name) + " core has no volume elements)");

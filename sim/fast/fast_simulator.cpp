@@ -46,6 +46,7 @@ FastSimulator::FastSimulator(Model model, SimOptions options, int threads)
       pool_(std::min(kMaxThreads, threads > 0 ? threads : automatic_threads(model_.num_edges()))) {
   // The scalar simulator's checks, with its messages: the model, the step, the elements.
   { const Simulator checked(model_, options_); }
+  watch_ = ElementWatch(model_);
   if (const std::string why = fast_path_refusal(model_, options_); !why.empty()) {
     throw Error("the fast CPU path does not compute " + why + "; use the scalar path");
   }
@@ -309,6 +310,7 @@ StepReport FastSimulator::particle_pass(int thread, double plate_z, long long st
   a.plate = plate_.data();
   a.plate_z = plate_z;
   a.hold_while_pushing = model_.plate_contact == PlateContact::kHoldWhilePushing;
+  a.grip = model_.plate_grip;
   a.held = held_.data();
   // The band at the slab's bottom, where threads below added force sums and read these
   // particles: fetched first (the sums once they are complete, the particles for writing),
@@ -426,6 +428,10 @@ std::vector<StepReport> FastSimulator::run(std::span<const double> plate_z) {
   }
   steps_ += count;
   t_ += static_cast<double>(count) * options_.dt;
+  // A collapsed mesh is not a result (sim/element_watch.hpp): checked once per run, so a
+  // run of many steps learns of an inverted element at its end.
+  const double* const positions[3] = {x_[0].data(), x_[1].data(), x_[2].data()};
+  watch_.check(positions, t_);
   return out;
 }
 

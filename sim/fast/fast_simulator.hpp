@@ -25,6 +25,7 @@
 #include "sim/fast/edge_layout.hpp"
 #include "sim/fast/edge_sweep.hpp"
 #include "sim/fast/worker_pool.hpp"
+#include "sim/element_watch.hpp"
 #include "sim/simulator.hpp"
 
 namespace rheo::fast {
@@ -52,7 +53,8 @@ class FastSimulator {
   StepReport step(double plate_z);
   // One step per plate height, the reports in order: the threads run all of them in one
   // job. On a non-finite state it throws as step() does at the first step concerned (the
-  // threads may have gone up to one step further by then).
+  // threads may have gone up to one step further by then). An element turned inside out
+  // at the run's end fails it (ElementWatch), naming the element, place and time.
   std::vector<StepReport> run(std::span<const double> plate_z);
 
   // The state in the scalar layout (a copy), and replacing it.
@@ -112,6 +114,7 @@ class FastSimulator {
   std::vector<SweepMaterial> materials_;
   // Area/volume preservation: signed rest measure per element.
   std::vector<double> rest_volume_;
+  ElementWatch watch_;  // inverted elements, checked at the end of every run
   // The particle pass's constants and the plate's hold flags (particle_sweep.hpp), padded
   // like x_.
   AlignedVector<double> inverse_mass_, free_, plate_, x0_[3], held_;

@@ -31,7 +31,7 @@ ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
   const double* const inverse_masses = a.inverse_mass;
   const double* const plate = a.plate;
   double* const held_state = a.held;
-  const bool floor = a.floor, hold_while_pushing = a.hold_while_pushing;
+  const bool floor = a.floor, hold_while_pushing = a.hold_while_pushing, grip = a.grip;
   const int end = a.end;
   // The force sums to add for this range: each thread's that wrote into it, in thread order.
   // The sweeping thread's own sums are cleared as they are read, ready for the next step.
@@ -53,7 +53,9 @@ ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
   for (int i = a.begin; i < end; i += static_cast<int>(hn::Lanes(d))) {
     const auto moves = hn::Gt(hn::Load(d, free + i), zero);
     const V inverse_mass = hn::Load(d, inverse_masses + i);
-    const V z_start = hn::Load(d, x_state[2] + i);
+    const V start[3] = {hn::Load(d, x_state[0] + i), hn::Load(d, x_state[1] + i),
+                        hn::Load(d, x_state[2] + i)};
+    const V z_start = start[2];
     V x[3], v[3], force_z = zero;
     for (int c = 0; c < 3; ++c) {
       V f = zero;
@@ -66,7 +68,7 @@ ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
       if (c == 2) force_z = f;
       const V accel = hn::Add(hn::Mul(f, inverse_mass), gravity[c]);
       v[c] = hn::Add(hn::Load(d, v_state[c] + i), hn::Mul(dt, accel));
-      x[c] = hn::Add(hn::Load(d, x_state[c] + i), hn::Mul(dt, v[c]));
+      x[c] = hn::Add(start[c], hn::Mul(dt, v[c]));
     }
     if (floor) {
       const auto below = hn::Lt(x[2], zero);
@@ -86,6 +88,12 @@ ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
     v[2] = hn::IfThenElse(through, hn::Min(v[2], plate_velocity),
                           hn::IfThenElse(kept, plate_velocity, v[2]));
     hn::Store(hn::IfThenElse(on_plate, hn::IfThenElseZero(contact, one), held), d, held_state + i);
+    if (grip) {
+      for (int c = 0; c < 2; ++c) {
+        x[c] = hn::IfThenElse(contact, start[c], x[c]);
+        v[c] = hn::IfThenZeroElse(contact, v[c]);
+      }
+    }
     plate_force = hn::Add(plate_force, hn::IfThenElseZero(contact, force_z));
     contacts += hn::CountTrue(d, contact);
     for (int c = 0; c < 3; ++c) {

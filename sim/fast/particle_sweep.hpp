@@ -28,6 +28,7 @@ struct ParticleSweepArgs {
   const double* plate = nullptr;  // 1 for a free plate particle, else 0
   double plate_z = 0.0;
   bool hold_while_pushing = false;  // PlateContact::kHoldWhilePushing
+  bool grip = false;                // Model::plate_grip
   double* held = nullptr;           // 1 where the plate held the particle (updated)
   int begin = 0, end = 0;  // particles, multiples of kSlotAlign (the arrays are padded)
 };

@@ -156,6 +156,30 @@ TEST_F(SimulateTest, ClayPushForceRisesDuringPushRelaxesDuringHoldAndVanishesAft
   EXPECT_LT(residual, 9.6 - 0.5);
 }
 
+// clay_push's lattice on a frictionless plate, held 200 s: it buckles after about 70 s of
+// hold (docs/model.md, "Plate grip"). The run fails naming the collapse, and writes nothing.
+TEST_F(SimulateTest, ALatticeGivingWayUnderAHeldPlateIsAnErrorNotAResult) {
+  nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("clay_push"));
+  j["protocol"]["hold_s"] = 200;
+  j["protocol"]["after_s"] = 0;
+  j["protocol"]["plate_grip"] = false;
+  const std::string file = write_scenario(j);
+  for (const std::string cpu : {"fast", "scalar"}) {
+    const RunResult r =
+        run_rheo("simulate --scenario " + file + " --cpu " + cpu + " --quiet --out " + out());
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("rheo: error: the object gave way under the held plate at t = "),
+              std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("/protocol/plate_grip"), std::string::npos) << r.output;
+    expect_no_output();
+  }
+  // The same hold with the grip clay_push has runs to its end.
+  j["protocol"]["plate_grip"] = true;
+  const RunResult r = run_rheo("simulate --scenario " + write_scenario(j) +
+                               " --quiet --no-plot --out " + out());
+  EXPECT_EQ(r.status, 0) << r.output;
+}
+
 TEST_F(SimulateTest, BadScenarioFailsNamingTheFieldAndWritesNothing) {
   nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
   j["material"]["c1"] = -2.0;
