@@ -314,7 +314,11 @@ TEST_F(SimulateTest, NumericalFailureMidRunLeavesNoOutput) {
   const RunResult r =
       run_rheo("simulate --scenario " + write_scenario(j) + " --quiet --out " + out());
   EXPECT_NE(r.status, 0);
-  EXPECT_NE(r.output.find("not finite"), std::string::npos) << r.output;
+  // The diverging lattice turns an element inside out before any value is non-finite: the
+  // element watch names it (either failure is a failure, never a result).
+  EXPECT_TRUE(r.output.find("not finite") != std::string::npos ||
+              r.output.find("the mesh collapsed at t = ") != std::string::npos)
+      << r.output;
   expect_no_output();
 }
 
