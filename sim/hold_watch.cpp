@@ -9,15 +9,14 @@
 namespace rheo {
 
 std::string HoldWatch::observe(double t, double plate_mm, double force_N, const State& state) {
-  const Model& m = *model_;
   double kinetic = 0.0, fastest_speed = -1.0;
   int fastest = -1;
-  for (int i = 0; i < m.num_particles(); ++i) {
-    const double speed2 = state.v[static_cast<std::size_t>(i)].squaredNorm();
-    kinetic += 0.5 * m.mass[static_cast<std::size_t>(i)] * speed2;
+  for (std::size_t i = 0; i < mass_.size(); ++i) {
+    const double speed2 = state.v[i].squaredNorm();
+    kinetic += 0.5 * mass_[i] * speed2;
     if (speed2 > fastest_speed) {
       fastest_speed = speed2;
-      fastest = i;
+      fastest = static_cast<int>(i);
     }
   }
   const bool holding = looked_ && plate_mm == last_plate_mm_;

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "sim/model.hpp"
 
@@ -22,7 +23,7 @@ class HoldWatch {
   // The largest ratio of a hold's kinetic energy to the plate-driven one that passes.
   static constexpr double kGrowth = 10.0;
 
-  explicit HoldWatch(const Model& model) : model_(&model) {}
+  explicit HoldWatch(const Model& model) : mass_(model.mass) {}
 
   // One look at the run: time [s], plate displacement [mm], plate force [N] and the state.
   // Returns "" or the description of the collapse.
@@ -31,7 +32,7 @@ class HoldWatch {
   void check(double t, double plate_mm, double force_N, const State& state);
 
  private:
-  const Model* model_;
+  std::vector<double> mass_;  // the particles' masses [kg]
   bool looked_ = false;
   double last_plate_mm_ = 0.0;
   double driven_ = 0.0;  // largest kinetic energy while the plate moved [J]

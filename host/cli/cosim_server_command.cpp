@@ -94,13 +94,7 @@ int run_cosim_server(const CosimServerArgs& args) {
               << args.idle_timeout_s << " s)\n";
   }
   link::serve(listener, make_core, options);
-  if (!args.quiet) {
-    std::cerr << "rheo cosim-server: stopped"
-              << (signals.signal_number() == SIGINT    ? " by SIGINT"
-                  : signals.signal_number() == SIGTERM ? " by SIGTERM"
-                                                       : "")
-              << "\n";
-  }
+  if (!args.quiet) std::cerr << signals.stopped_message() << "\n";
   return signals.exit_status();
 }
 

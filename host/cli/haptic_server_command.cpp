@@ -46,13 +46,7 @@ int run_haptic_server(const HapticServerArgs& args) {
               << ", listening on " << args.socket << "\n";
   }
   haptic::serve(listener, scenario, options);
-  if (!args.quiet) {
-    std::cerr << "rheo haptic-server: stopped"
-              << (signals.signal_number() == SIGINT    ? " by SIGINT"
-                  : signals.signal_number() == SIGTERM ? " by SIGTERM"
-                                                       : "")
-              << "\n";
-  }
+  if (!args.quiet) std::cerr << signals.stopped_message() << "\n";
   return signals.exit_status();
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tests/cli/run_rheo.hpp"
+#include "tests/cli/scratch_dir.hpp"
 #include "tests/test_paths.hpp"
 
 namespace {
@@ -22,24 +23,11 @@ namespace fs = std::filesystem;
 using rheo::testing_support::run_rheo;
 using rheo::testing_support::RunResult;
 
-class BadInputTest : public testing::Test {
+class BadInputTest : public rheo::testing_support::ScratchDirTest {
  protected:
-  void SetUp() override {
-    // Built with append(): operator+ chains trip GCC 12's -Wrestrict.
-    std::string name("rheo_bad_input_");
-    name.append(testing::UnitTest::GetInstance()->current_test_info()->name());
-    root_ = fs::temp_directory_path() / name;
-    fs::remove_all(root_);
-    fs::create_directories(root_);
-  }
-  void TearDown() override { fs::remove_all(root_); }
+  BadInputTest() : ScratchDirTest("rheo_bad_input_") {}
 
-  std::string path(const std::string& name) const { return (root_ / name).string(); }
   std::string out() const { return path("out"); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(root_ / name, std::ios::binary) << text;
-    return path(name);
-  }
   std::string scenario_text() const { return run_rheo("scenarios --show block5").output; }
   std::string scenario_with(const std::string& from, const std::string& to) const {
     std::string s = scenario_text();
@@ -60,7 +48,6 @@ class BadInputTest : public testing::Test {
   }
   std::string data() const { return std::string(RHEO_SOURCE_DIR) + "/data/clay_fast.csv"; }
 
-  fs::path root_;
 };
 
 TEST_F(BadInputTest, DeeplyNestedScenarioIsRefusedNotACrash) {

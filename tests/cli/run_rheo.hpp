@@ -15,8 +15,10 @@ struct RunResult {
   std::string output;  // stdout and stderr
 };
 
-inline RunResult run_rheo(const std::string& args) {
-  const std::string command = std::string(RHEO_BINARY) + " " + args + " 2>&1";
+// `dir`, when not empty, is the working directory rheo runs in.
+inline RunResult run_rheo(const std::string& args, const std::string& dir = "") {
+  const std::string command = (dir.empty() ? "" : "cd '" + dir + "' && ") +
+                              std::string(RHEO_BINARY) + " " + args + " 2>&1";
   RunResult r;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return r;

@@ -19,6 +19,7 @@
 #include "host/haptic/haptic_session.hpp"
 #include "sim/error.hpp"
 #include "sim/simulator.hpp"
+#include "tests/link/server_process.hpp"
 #include "tests/test_paths.hpp"
 
 namespace rheo::haptic {
@@ -197,42 +198,10 @@ TEST(HapticServerCli, ServesAClientAndStopsWhenAsked) {
 }
 
 // `rheo haptic-server` started as a user starts it; killed at the end if still running.
-class HapticServerProcess {
- public:
-  explicit HapticServerProcess(const std::string& path) {
-    pid_ = ::fork();
-    if (pid_ < 0) throw Error("fork failed");
-    if (pid_ == 0) {
-      ::execl(RHEO_BINARY, RHEO_BINARY, "haptic-server", "--scenario", "press_sphere", "--socket",
-              path.c_str(), "--quiet", static_cast<char*>(nullptr));
-      ::_exit(127);
-    }
-  }
-  ~HapticServerProcess() {
-    if (pid_ > 0) {
-      ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, nullptr, 0);
-    }
-  }
-  void signal(int sig) const { ::kill(pid_, sig); }
-  // The exit status (128 + the signal if a signal killed it) within `limit`, -1 if still running.
-  int wait(std::chrono::milliseconds limit) {
-    const auto end = std::chrono::steady_clock::now() + limit;
-    while (pid_ > 0) {
-      int status = 0;
-      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      }
-      if (std::chrono::steady_clock::now() > end) return -1;
-      std::this_thread::sleep_for(10ms);
-    }
-    return -1;
-  }
-
- private:
-  pid_t pid_ = -1;
-};
+testing_support::RheoProcess haptic_server(const std::string& path) {
+  return testing_support::RheoProcess(
+      {"haptic-server", "--scenario", "press_sphere", "--socket", path, "--quiet"});
+}
 
 // A signal while a client steps the scene stops the server within the bound, with the exit
 // status a shell expects and the socket file removed; a server started again at the same path
@@ -242,7 +211,7 @@ void expect_the_signal_stops_it_mid_session(int sig, int status) {
                             ("rheo-haptic-signal-" + std::to_string(::getpid()) + ".sock"))
                                .string();
   {
-    HapticServerProcess server(path);
+    testing_support::RheoProcess server = haptic_server(path);
     std::atomic<int> steps{0};
     std::thread client([&] {
       try {
@@ -271,7 +240,7 @@ void expect_the_signal_stops_it_mid_session(int sig, int status) {
     EXPECT_EQ(got, status);
     EXPECT_FALSE(std::filesystem::exists(path));
   }
-  HapticServerProcess again(path);
+  testing_support::RheoProcess again = haptic_server(path);
   HapticClient client(path, 20000ms);
   HapticSession local(load_scenario("press_sphere"));
   for (int i = 1; i <= 200; ++i) {

@@ -57,6 +57,12 @@ int StopSignals::signal_number() const { return g_signal; }
 
 int StopSignals::exit_status() const { return g_signal == 0 ? 0 : 128 + g_signal; }
 
+std::string StopSignals::stopped_message() const {
+  const int sig = g_signal;
+  return program_ + ": stopped" +
+         (sig == SIGINT ? " by SIGINT" : sig == SIGTERM ? " by SIGTERM" : "");
+}
+
 void StopSignals::watch() {
   std::unique_lock lock(mutex_);
   while (!g_stop) {

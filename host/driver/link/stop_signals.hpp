@@ -38,6 +38,8 @@ class StopSignals {
   int signal_number() const;
   // The exit status the process should end with: 128 + the signal, 0 if none came.
   int exit_status() const;
+  // What the server says when it ends: "PROGRAM: stopped" and " by SIGINT" or " by SIGTERM".
+  std::string stopped_message() const;
 
  private:
   void watch();
