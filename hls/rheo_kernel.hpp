@@ -30,7 +30,9 @@
 //     f = sum of +F_k (i = s) and -F_k (i = e)
 //     p += minv * f + g;  x += p
 //     fixed: x = x0, p = 0
-//     plate particle above the plate: z = plate_z, p.z = min(p.z, plate_z - z_start),
+//     plate particle above the plate (z > plate_z), or on the plate in the previous step
+//       (z_start = the previous plate height) and moving faster than it (p.z > lim,
+//       lim = plate_z - z_start in P units): z = plate_z, p.z = min(p.z, lim),
 //       plate force += f.z
 //     with hold-while-pushing on, a plate particle the plate held in the previous step
 //       (z_start = the previous plate height) that pushes (f.z > 0): z = plate_z,
@@ -906,23 +908,31 @@ inline std::int64_t mpm_particle(MpmParticle& q, const std::int64_t f[3], const 
         saturate(i128(q.x[i]) + shift_round<R>(p[i], Fmt::kFracP - Fmt::kFracX), W, status, kFlag);
   }
   std::int64_t plate_force = 0;
+  // The clamp bound: the plate's step since the particle's position, in P units.
+  std::uint32_t lim_status = 0;
+  const std::int64_t lim =
+      saturate(shift_round<R>(i128(g.plate_z) - q.x[2], -(Fmt::kFracP - Fmt::kFracX)), W,
+               &lim_status, kFlag);
+  // A particle that sat on the plate (at the previous step's plate height) stays on it
+  // while its new displacement exceeds the plate's step (p.z > lim): the double reference's
+  // rule v > V_plate, decided on the P word. Decided on the rounded position instead, it
+  // needed the particle to move half an X LSB beyond the plate, and a held particle whose
+  // force moves it less than that per step (dt^2 f / m, large mass scales) was dropped with
+  // its force: exact-zero plate forces (docs/hardware.md, "Plate rules").
+  const bool on_plate_before = g.plate_prev_valid && q.x[2] == g.plate_z_prev;
   if (q.flags & kCoreFixed) {
     for (int i = 0; i < 3; ++i) {
       x[i] = q.x0[i];
       p[i] = 0;
     }
   } else if ((q.flags & kCorePlate) && g.plate_enable &&
-             (x[2] > g.plate_z || (g.plate_hold && g.plate_prev_valid &&
-                                   q.x[2] == g.plate_z_prev && f[2] > 0))) {
+             (x[2] > g.plate_z || (on_plate_before && p[2] > lim) ||
+              (g.plate_hold && on_plate_before && f[2] > 0))) {
     // The held particle moves with the plate: p.z <= plate_z - z_start (as the reference
     // simulator does), so the edges see the plate's strain rate; a particle kept because
     // it pushes moves exactly with the plate.
-    std::uint32_t lim_status = 0;
-    const std::int64_t lim =
-        saturate(shift_round<R>(i128(g.plate_z) - q.x[2], -(Fmt::kFracP - Fmt::kFracX)), W,
-                 &lim_status, kFlag);
     *status |= lim_status;
-    if (x[2] > g.plate_z) {
+    if (x[2] > g.plate_z || p[2] > lim) {
       if (p[2] > lim) p[2] = lim;
     } else {
       p[2] = lim;

@@ -153,7 +153,7 @@ module rheo_core #(
   logic clearing_sums, tem_pass, edge_phase, mpm_phase, edge_issue, plate_start;
   logic [Lanes-1:0] mpm_issue;
   logic [3*W-1:0] gravity;
-  logic floor_en, plate_en, hold_en;
+  logic floor_en, plate_en, hold_en, prev_valid;
   // The controller's registers under the names the waveform view (host/driver/gtkw.cpp)
   // shows at the core's scope.
   logic [W-1:0] plate_z_q;
@@ -186,7 +186,7 @@ module rheo_core #(
     .edge_phase_o(edge_phase), .mpm_phase_o(mpm_phase), .edge_issue_o(edge_issue),
     .mpm_issue_o(mpm_issue), .plate_start_o(plate_start),
     .gravity_o(gravity), .floor_en_o(floor_en), .plate_en_o(plate_en), .plate_z_o(plate_z_q),
-    .hold_en_o(hold_en), .plate_prev_o(plate_prev),
+    .hold_en_o(hold_en), .prev_valid_o(prev_valid), .plate_prev_o(plate_prev),
     .read_word_i(read_word), .lane_flags_i(lane_flags), .plate_acc_i(plate_acc),
     .tool_kind_o(tool_kind), .tool_c_o(tool_c), .tool_dc_o(tool_dc), .tool_a_o(tool_a),
     .tool_reach_o(tool_reach), .tool_half_len_o(tool_half_len), .tool_kt_o(tool_kt),
@@ -514,6 +514,7 @@ module rheo_core #(
       .plate_en_i(plate_en),
       .floor_en_i(floor_en),
       .hold_en_i (hold_en),
+      .prev_valid_i(prev_valid),
       .plate_prev_i(plate_prev),
       .valid_o   (mpm_valid[j]),
       .idx_o     (mpm_idx[j]),

@@ -66,6 +66,7 @@ module rheo_core_ctrl #(
   output logic                 plate_en_o,
   output logic [W-1:0]         plate_z_o,
   output logic                 hold_en_o,
+  output logic                 prev_valid_o,
   output logic [W-1:0]         plate_prev_o,
   // From the datapath.
   input  logic [W-1:0]         read_word_i,      // memory word of the entry (read-back mux)
@@ -207,6 +208,7 @@ module rheo_core_ctrl #(
   assign plate_en_o = plate_en_q;
   assign plate_z_o = plate_z_q;
   assign hold_en_o = plate_hold_en_q & plate_prev_valid_q;
+  assign prev_valid_o = plate_prev_valid_q;
   assign plate_prev_o = plate_prev_q;
   assign tool_kind_o = tool_word_q[rheo_consts_pkg::ToolKind*W +: 2];
   for (genvar i = 0; i < 3; i++) begin : g_tool_vec

@@ -3,7 +3,9 @@
 // constraints:
 //   p += minv f + g;  x += p                     (minv = Fu dt^2 / (m Lu), g in P format)
 //   fixed: x = x0, p = 0
-//   plate particle above the plate: z = plate_z, p.z = min(p.z, plate_z - z_start),
+//   plate particle above the plate (z > plate_z), or on the plate in the previous step
+//     (z_start = plate_prev_i, prev_valid_i) and moving faster than it (p.z > lim, lim =
+//     (plate_z - z_start) << 4): z = plate_z, p.z = min(p.z, lim),
 //     plate_f = f.z  (the held particle moves with the plate, as in the reference model)
 //   with hold_en_i, a plate particle held in the previous step (z_start = plate_prev_i)
 //     that pushes (f.z > 0): z = plate_z, p.z = plate_z - z_start, plate_f = f.z
@@ -25,7 +27,7 @@
 //   5 p  = sat(p1 + g); lim = the clamp bound (plate_z - z_start) << 4, saturated
 //   6 x  = sat(x + round(p >> 4)) (one carry chain, the rounding bit as carry-in);
 //     fixed particles take x0 and p = 0 here; p.z > lim
-//   7 constraints: plate (z > plate_z, 32-bit compare) and floor
+//   7 constraints: plate (z > plate_z, or on it before and p.z > lim) and floor
 // The coefficient shift works on prod << 28 shifted right by t (t = stored shift field;
 // s = t - 27 is the net right shift of hls::mul_coef with CoefShifts::kMinv), so every
 // shift is a right shift that keeps one bit below the result's LSB for the rounding.
@@ -55,6 +57,7 @@ module rheo_mpm #(
   input  logic            plate_en_i,
   input  logic            floor_en_i,
   input  logic            hold_en_i,   // hold while pushing (previous plate height valid)
+  input  logic            prev_valid_i,  // plate_prev_i holds the previous step's height
   input  logic [W-1:0]    plate_prev_i,  // plate height of the previous step
   output logic            valid_o,
   output logic [IdxW-1:0] idx_o,
@@ -241,7 +244,10 @@ module rheo_mpm #(
       clip6[i] = x_c[i][W];
     end
     // stage 7: plate and floor (fixed particles were settled at stage 6)
-    hold = flags_q[6][1] && !flags_q[6][0] && plate_en_i && xn_q[2] > $signed(plate_z_i);
+    // A particle on the plate in the previous step stays while it moves faster than the
+    // plate (p.z > lim, decided on the P word as the reference decides v > V_plate).
+    hold = flags_q[6][1] && !flags_q[6][0] && plate_en_i &&
+           (xn_q[2] > $signed(plate_z_i) || (prev_valid_i && was_held_q && pz_above_lim_q));
     stick = flags_q[6][1] && !flags_q[6][0] && plate_en_i && !hold && hold_en_i &&
             was_held_q && fz_pos_q;
     on_floor = !flags_q[6][0] && !hold && !stick && floor_en_i && xn_q[2][W-1];

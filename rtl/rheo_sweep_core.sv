@@ -94,7 +94,7 @@ module rheo_sweep_core #(
   logic [Lanes*(GAW+1)-1:0] ghost;
   logic [Lanes*DelayW-1:0] delay;
   logic [3*W-1:0] gravity;
-  logic floor_en, plate_en, hold_en;
+  logic floor_en, plate_en, hold_en, prev_valid;
   logic [W-1:0] plate_z, plate_prev;
   logic [31:0] lane_flags;
   logic [rheo_consts_pkg::PlateAccW-1:0] plate_acc;
@@ -113,6 +113,7 @@ module rheo_sweep_core #(
     .acc_clear_o(acc_clear), .done_i(done),
     .count_o(count), .ghost_o(ghost), .delay_o(delay), .gravity_o(gravity),
     .floor_en_o(floor_en), .plate_en_o(plate_en), .plate_z_o(plate_z), .hold_en_o(hold_en),
+    .prev_valid_o(prev_valid),
     .plate_prev_o(plate_prev), .lane_flags_i(lane_flags), .plate_acc_i(plate_acc));
 
   // ---------------------------------------------------------------- tables
@@ -194,7 +195,7 @@ module rheo_sweep_core #(
       .coef_i(coef[j*NumCoef*CoefW +: NumCoef*CoefW]), .mflags_i(mflags[j*MFlagsW +: MFlagsW]),
       .mass_o(mass[j*MassW +: MassW]), .minv_i(minv[j*CoefW +: CoefW]),
       .gravity_i(gravity), .plate_z_i(plate_z), .plate_en_i(plate_en), .floor_en_i(floor_en),
-      .hold_en_i(hold_en), .plate_prev_i(plate_prev),
+      .hold_en_i(hold_en), .prev_valid_i(prev_valid), .plate_prev_i(plate_prev),
       .plate_valid_o(plate_valid[j]), .plate_f_o(plate_f[j*W +: W]), .flags_o(flags[j]),
       .host_addr_i(local_addr), .host_xp_we_i(xp_we && 32'(lane_sel) == j),
       .host_xp_wdata_i(xp_wdata), .host_xp_rdata_o(xp_rdata[j]),

@@ -89,6 +89,7 @@ module rheo_sweep_ctrl #(
   output logic                   plate_en_o,
   output logic [W-1:0]           plate_z_o,
   output logic                   hold_en_o,
+  output logic                   prev_valid_o,
   output logic [W-1:0]           plate_prev_o,
   input  logic [31:0]            lane_flags_i,
   input  logic [PlateAccW-1:0]   plate_acc_i
@@ -297,6 +298,7 @@ module rheo_sweep_ctrl #(
   assign plate_en_o = plate_en_q;
   assign plate_z_o = plate_z_q;
   assign hold_en_o = plate_hold_en_q & plate_prev_valid_q;
+  assign prev_valid_o = plate_prev_valid_q;
   assign plate_prev_o = plate_prev_q;
 
 `ifndef SYNTHESIS

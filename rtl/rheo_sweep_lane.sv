@@ -123,6 +123,7 @@ module rheo_sweep_lane #(
   input  logic                    plate_en_i,
   input  logic                    floor_en_i,
   input  logic                    hold_en_i,
+  input  logic                    prev_valid_i,
   input  logic [W-1:0]            plate_prev_i,
   output logic                    plate_valid_o,
   output logic [W-1:0]            plate_f_o,
@@ -571,7 +572,8 @@ module rheo_sweep_lane #(
     .x_i(qx_head[0 +: 3*W]), .p_i(qx_head[3*W +: 3*W]), .x0_i(qx_head[0 +: 3*W]),
     .minv_i(m5_minv_q), .flags_i(m5_flags_q),
     .g_i(gravity_i), .plate_z_i(plate_z_i), .plate_en_i(plate_en_i), .floor_en_i(floor_en_i),
-    .hold_en_i(hold_en_i), .plate_prev_i(plate_prev_i), .valid_o(mpm_valid), .idx_o(mpm_idx),
+    .hold_en_i(hold_en_i), .prev_valid_i(prev_valid_i), .plate_prev_i(plate_prev_i),
+    .valid_o(mpm_valid), .idx_o(mpm_idx),
     .x_o(mpm_x), .p_o(mpm_p), .plate_f_o(plate_f_o), .sat_o(mpm_sat));
   assign plate_valid_o = mpm_valid;
   // To the lane above's ghost copy.

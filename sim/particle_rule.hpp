@@ -45,7 +45,13 @@ bool apply_floor_and_plate(const Model& model, int i, const Vec& start, Real pla
   }
   if (model.flags[i] != kPlate) return false;
   const Real plate_velocity = (plate_z - z_start) * (Real(1) / dt);
-  if (x[2] > plate_z) {
+  // Through the plate, or held in the previous step, exactly on the plate now and still
+  // pushing (force_z > 0). On rounded positions (float) a held particle whose force moves
+  // it less than half a position step per step beyond the plate lands exactly on it, and
+  // the position test alone dropped it and its force (exact zeros, docs/backends.md "Plate
+  // force resolution"); in double the tie does not occur in practice. The fixed-point
+  // cores decide the same on their P word (hls::mpm_particle).
+  if (x[2] > plate_z || (held && x[2] == plate_z && force_z > Real(0))) {
     x[2] = plate_z;
     // The held particle moves with the plate: its velocity must match its position change,
     // otherwise the edges never see the plate's strain rate (see simulator.hpp).

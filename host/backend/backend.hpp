@@ -113,6 +113,13 @@ class Backend {
     if (!one) return std::nullopt;
     return *one * steps;
   }
+  // Refuses, before any step, plate heights whose plate force this backend cannot resolve
+  // (PlateResolution below: a float or fixed-point format, the penetration plate rule, a
+  // plate too slow for the particles' mass); throws rheo::Error naming the mass scale, the
+  // format's force step and the limit. run() checks its heights the same way before it
+  // steps them; a caller that knows the whole plate path calls this first, so that a run
+  // is refused before its first step. The reference resolves every plate: no-op.
+  virtual void check_plate_heights(std::span<const double> /*plate_z*/) {}
   // Waveform (rtl with Options::trace_fst): on or off for the steps that follow, and the
   // waveform's current time, to mark which steps it covers.
   virtual void set_tracing(bool /*on*/) {}
@@ -140,6 +147,69 @@ std::string backend_names();
 // cannot honour in `dropped`.
 void check_hardware_step(const Model& model, const SimOptions& options,
                          std::vector<std::string>& dropped);
+
+// The plate force resolution of a format (docs/backends.md, "Plate force resolution").
+// With the penetration plate rule a particle the plate held stays on it while it pushes,
+// i.e. while its force f moves it dt^2 f / m beyond the plate's step
+// in the step; the format's position word resolves that only down to its resolution dz at
+// the plate, so the rule resolves a plate particle's force in steps of m dz / dt^2 (0.69 N
+// per particle for block5 in float at mass_scale 3e5). The force it must resolve is at
+// least what the particle's edges exert at the plate's speed V: their instantaneous
+// damping over one step, the sum of c2 (c1 + k1 dt) / (c1 + c2 + k1 dt) (the cores'
+// folded ct; c2_min for a nonlinear damper), times V, the viscous part of the plate force,
+// present from the first step of contact. Plate heights whose fastest speed leaves that
+// force below kMargin force steps for some plate particle are refused. The
+// hold-while-pushing rule keeps a held particle while its force pushes, whatever its
+// rounded position: it needs no such resolution and is not checked.
+class PlateResolution {
+ public:
+  // Measured on 20 block5 variants (k1 2e4..2e8 Pa, mass_scale 300..3e8, float and
+  // bittrue, 2,000 push steps, with the plate rule's tie counted): where the damper force
+  // was 4.6 or more force steps, the largest plate force error was 3.1e-4 of the peak; at
+  // 3.0, 1.6e-4; at 2.3, 19 %; at 1.7 and below, up to 100 % (docs/backends.md).
+  static constexpr double kMargin = 4.0;
+
+  // For the model a backend computes (driver::hardware_model's), its step dt [s] and its
+  // position word's resolution at the plate's height [m]; `format` names the arithmetic
+  // in messages (e.g. "float (24-bit significand)").
+  void load(const Model& model, double dt, double position_lsb_m, std::string format);
+  // Throws rheo::Error when the plate's fastest speed since the load, these heights
+  // included, is above 0 and leaves a plate particle's damper force below kMargin force
+  // steps. check() takes the heights of the next steps (continuing from the last height it
+  // saw); check_path() a whole plate path ahead of the run (it does not move the last
+  // height).
+  void check(std::span<const double> plate_z);
+  void check_path(std::span<const double> plate_z);
+  // The slowest plate speed whose forces the format resolves [m/s] (0: nothing to
+  // resolve), and the force step [N] of the particle that sets it.
+  double slowest_speed_m_s() const { return slowest_speed_; }
+  double force_step_N() const { return force_step_; }
+  // {"plate_force_step_N", "slowest_resolved_plate_speed_m_s"} for describe().
+  nlohmann::json describe() const;
+
+ private:
+  void refuse_if_unresolved() const;
+
+  std::string format_;
+  double mass_scale_ = 1.0, dt_ = 0.0, lsb_ = 0.0;
+  double slowest_speed_ = 0.0;  // max over plate particles of force step / (kMargin damping)
+  double force_step_ = 0.0, damping_ = 0.0, mass_ = 0.0;  // of that particle
+  int particle_ = -1;
+  double fastest_ = 0.0;  // plate speed since the load
+  double last_z_ = 0.0;
+  bool have_last_ = false;
+};
+
+// The position word's resolution of single precision at height z [m]: the spacing of
+// floats in [2^e, 2^(e+1)) holding |z|.
+double float_position_lsb(double z);
+
+// For fixed-point images: throws rheo::Error when the core's gravity word (g dt^2 / Lu in
+// the velocity format) is off from its exact value by more than 1 % (mass-scaled gravity
+// g / mass_scale rounds towards zero: at mass_scale 3e7 on block5 it is 0.14 LSB, and the
+// core computed the object without its weight). `format` names the arithmetic.
+void check_gravity_word(const Model& model, double dt, double length_unit_m, int frac_p,
+                        const std::int64_t word[3], const std::string& format);
 
 // The factories of the registry (one file each).
 std::unique_ptr<Backend> make_reference_backend(const std::string&, const Options&);

@@ -51,6 +51,9 @@ class DeviceBackend : public Backend {
       element_ = element;
     }
     image_ = driver::make_core_image(hw, state, dt, lanes_, driver::FormatDesc{}, element);
+    check_gravity_word(hw, dt, image_.units.length_m, image_.format.frac_p, image_.globals.g,
+                       name());
+    plate_.load(hw, dt, std::ldexp(image_.units.length_m, -image_.format.frac_x), name());
     try {
       device_->load(image_);
     } catch (const Error& e) {
@@ -78,6 +81,7 @@ class DeviceBackend : public Backend {
     const driver::CoreImage& img = loaded();
     const std::size_t tools = hw_.tools.size();
     if (tools == 0) return Backend::run_tools(plate_z, poses, reactions);
+    plate_.check(plate_z);
     if (poses.size() != plate_z.size() * tools) {
       throw Error(name() + ": " + std::to_string(poses.size()) + " tool poses for " +
                   std::to_string(plate_z.size()) + " steps of " + std::to_string(tools) +
@@ -111,6 +115,7 @@ class DeviceBackend : public Backend {
 
   std::vector<double> run(std::span<const double> plate_z) override {
     const driver::CoreImage& img = loaded();
+    plate_.check(plate_z);
     std::vector<std::int32_t> words;
     words.reserve(plate_z.size());
     for (double z : plate_z) {
@@ -156,6 +161,7 @@ class DeviceBackend : public Backend {
   }
 
   std::vector<std::string> dropped_features() const override { return dropped_; }
+  void check_plate_heights(std::span<const double> plate_z) override { plate_.check_path(plate_z); }
 
   std::optional<CoreClock> clock() override {
     loaded();
@@ -187,6 +193,7 @@ class DeviceBackend : public Backend {
   int lanes_ = 1;
   hls::EdgeElement element_ = hls::kThreeElement;
   Model hw_;  // the model the core computes (arm extensions map back into its state)
+  PlateResolution plate_;
   double t_ = 0.0, dt_ = 0.0;
   bool tool_posed_ = false;  // a tool pose was given since the load
   ToolPose tool_before_;     // the tool's pose in the last step

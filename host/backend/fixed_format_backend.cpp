@@ -7,6 +7,7 @@
 // shifted as a whole), rounding "nearest" or "truncate", and B-bit multiplier operands
 // (absent: full width). "q27_nearest_op18" is the hardware format.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <regex>
@@ -59,6 +60,9 @@ class FixedFormatBackend final : public Backend {
     check_hardware_step(hw_, options, dropped_);
     image_ = driver::make_core_image(hw_, state, options.dt, lanes_, driver::FormatDesc::of<Fmt>(),
                                      element_);
+    check_gravity_word(hw_, options.dt, image_.units.length_m, Fmt::kFracP, image_.globals.g,
+                       name());
+    plate_.load(hw_, options.dt, std::ldexp(image_.units.length_m, -Fmt::kFracX), name());
     if (!mem_) mem_ = std::make_unique<hls::CoreMemory>();
     driver::load_memory(image_, *mem_);
     t_ = state.t;
@@ -67,6 +71,7 @@ class FixedFormatBackend final : public Backend {
 
   std::vector<double> run(std::span<const double> plate_z) override {
     loaded();
+    plate_.check(plate_z);
     std::vector<double> force;
     force.reserve(plate_z.size());
     for (double z : plate_z) {
@@ -109,9 +114,10 @@ class FixedFormatBackend final : public Backend {
   }
 
   std::vector<std::string> dropped_features() const override { return dropped_; }
+  void check_plate_heights(std::span<const double> plate_z) override { plate_.check_path(plate_z); }
 
   nlohmann::json describe() const override {
-    return {{"kind", "fixed"},
+    nlohmann::json d = {{"kind", "fixed"},
             {"width", Fmt::kWidth},
             {"frac_x", Fmt::kFracX},
             {"frac_p", Fmt::kFracP},
@@ -121,6 +127,8 @@ class FixedFormatBackend final : public Backend {
             {"hardware_format", std::is_same_v<Fmt, hls::HardwareFormat>},
             {"length_unit_m", image_.units.length_m},
             {"force_unit_N", image_.units.force_N}};
+    d.update(plate_.describe());
+    return d;
   }
 
  private:
@@ -134,6 +142,7 @@ class FixedFormatBackend final : public Backend {
   Model hw_;  // the model the core computes (arm extensions map back into its state)
   std::unique_ptr<hls::CoreMemory> mem_;  // static-size core memories: megabytes
   std::vector<std::string> dropped_;
+  PlateResolution plate_;
   double t_ = 0.0, dt_ = 0.0;
 };
 

@@ -24,6 +24,8 @@ class FloatBackend : public Backend {
     }
     model_ = std::make_unique<Model>(driver::hardware_model(model, &dropped_, driver::edge_element_for(model)));
     check_hardware_step(*model_, options, dropped_);
+    // Single precision resolves a position to the float spacing at the plate's height.
+    plate_.load(*model_, dt, float_position_lsb(model_->height), "float (24-bit significand)");
     loop_ = std::make_unique<SieLoop<float>>(*model_, dt);
     loop_->set_state(state);
     t_ = state.t;
@@ -32,6 +34,7 @@ class FloatBackend : public Backend {
 
   std::vector<double> run(std::span<const double> plate_z) override {
     if (!loop_) throw Error("float backend: no model loaded");
+    plate_.check(plate_z);
     std::vector<double> force;
     force.reserve(plate_z.size());
     for (double z : plate_z) {
@@ -51,12 +54,18 @@ class FloatBackend : public Backend {
     return s;
   }
   std::vector<std::string> dropped_features() const override { return dropped_; }
-  nlohmann::json describe() const override { return {{"kind", "float"}, {"mantissa_bits", 24}}; }
+  void check_plate_heights(std::span<const double> plate_z) override { plate_.check_path(plate_z); }
+  nlohmann::json describe() const override {
+    nlohmann::json d = {{"kind", "float"}, {"mantissa_bits", 24}};
+    d.update(plate_.describe());
+    return d;
+  }
 
  private:
   std::unique_ptr<Model> model_;  // the loop keeps a reference to it
   std::unique_ptr<SieLoop<float>> loop_;
   std::vector<std::string> dropped_;
+  PlateResolution plate_;
   double t_ = 0.0, dt_ = 0.0;
 };
 

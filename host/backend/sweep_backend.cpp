@@ -4,6 +4,7 @@
 // (what the sweep core does not compute is listed, never silently dropped) with every edge
 // running from its lower to its higher particle (prepared()), which is also the model a
 // core compared with it word for word has to run.
+#include <cmath>
 #include <memory>
 
 #include "host/backend/backend.hpp"
@@ -48,6 +49,10 @@ class SweepBackend : public Backend {
       shape_.lanes = opened.lanes;
     }
     image_ = driver::make_sweep_image(prepared(hw), state, options.dt, shape_);
+    const driver::CoreImage& base = image_.base;
+    check_gravity_word(hw, options.dt, base.units.length_m, base.format.frac_p, base.globals.g,
+                       name());
+    plate_.load(hw, options.dt, std::ldexp(base.units.length_m, -base.format.frac_x), name());
     device_->load_frames(driver::sweep_frames(image_), shape_.lanes, true);
     loaded_ = true;
     t_ = state.t;
@@ -56,6 +61,7 @@ class SweepBackend : public Backend {
 
   std::vector<double> run(std::span<const double> plate_z) override {
     const driver::CoreImage& img = loaded().base;
+    plate_.check(plate_z);
     std::vector<std::int32_t> words;
     words.reserve(plate_z.size());
     for (double z : plate_z)
@@ -104,6 +110,7 @@ class SweepBackend : public Backend {
   }
 
   std::vector<std::string> dropped_features() const override { return dropped_; }
+  void check_plate_heights(std::span<const double> plate_z) override { plate_.check_path(plate_z); }
 
   nlohmann::json describe() const override {
     if (!loaded_) return nlohmann::json::object();
@@ -171,6 +178,7 @@ class SweepBackend : public Backend {
   driver::SweepImage image_;
   bool loaded_ = false;
   std::vector<std::string> dropped_;
+  PlateResolution plate_;
   std::string name_;
   double t_ = 0.0, dt_ = 0.0;
 };

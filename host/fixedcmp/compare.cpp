@@ -18,6 +18,7 @@ struct Tracker {
   std::string name;  // the spec with ':' -> '_': a file-name part of the plot data
   std::unique_ptr<backend::Backend> backend;
   bool alive = true;
+  bool refused = false;  // before the run (load or the plate path): never stepped
   std::string error;
   long long steps_reached = 0;
   double max_pos_rel = 0.0;      // running max over particles and steps
@@ -50,6 +51,12 @@ json compare(const Scenario& scenario, const std::vector<std::string>& specs,
   const double size = model.size;
   const int n = model.num_particles();
 
+  // The whole plate path (from its height at t = 0): a backend that cannot resolve the
+  // plate force along it refuses before the first step (Backend::check_plate_heights).
+  std::vector<double> path;
+  path.reserve(static_cast<std::size_t>(options.steps) + 1);
+  for (long long s = 0; s <= options.steps; ++s) path.push_back(scenario.plate_z(model, s));
+
   backend::Options backend_options;
   backend_options.lanes = options.lanes;
   std::vector<Tracker> trackers;
@@ -58,7 +65,17 @@ json compare(const Scenario& scenario, const std::vector<std::string>& specs,
     t.name = spec;
     std::replace(t.name.begin(), t.name.end(), ':', '_');
     t.backend = backend::make_backend(spec, backend_options);
-    t.backend->load(model, initial, scenario.options);
+    // A format that cannot represent the model refuses it (its range, a gravity word that
+    // rounds away, a plate force it cannot resolve): that column is reported as refused,
+    // with the reason, and the others run.
+    try {
+      t.backend->load(model, initial, scenario.options);
+      t.backend->check_plate_heights(path);
+    } catch (const Error& e) {
+      t.alive = false;
+      t.refused = true;
+      t.error = std::string("refused before the run: ") + e.what();
+    }
     trackers.push_back(std::move(t));
   }
 
@@ -161,6 +178,7 @@ json compare(const Scenario& scenario, const std::vector<std::string>& specs,
     b["name"] = tr.name;
     b["steps_reached"] = tr.steps_reached;
     b["completed"] = tr.alive;
+    b["refused"] = tr.refused;
     if (!tr.alive) b["error"] = tr.error;
     b["max_position_error_rel"] = tr.max_pos_rel;
     b["plate_force_error_max_N"] = tr.max_force_err_N;
@@ -184,6 +202,29 @@ json compare(const Scenario& scenario, const std::vector<std::string>& specs,
           {"reference_force_curve", ref_force_curve},
           {"wall_seconds", seconds},
           {"backends", backends}};
+}
+
+void judge(json& result, const Bounds& bounds) {
+  result["position_bound_rel"] = bounds.position_rel;
+  result["force_bound_rel"] = bounds.force_rel;
+  for (json& b : result["backends"]) {
+    json failures = json::array();
+    if (!b["completed"].get<bool>()) {
+      failures.push_back(b.value("refused", false) ? "refused before the run" : "stopped");
+    }
+    const double pos = b["max_position_error_rel"].get<double>();
+    const double force = b["plate_force_error_max_rel"].get<double>();
+    if (!(pos <= bounds.position_rel)) {
+      failures.push_back("position error " + std::to_string(pos) + " of the size > " +
+                         std::to_string(bounds.position_rel));
+    }
+    if (!(force <= bounds.force_rel)) {
+      failures.push_back("plate force error " + std::to_string(force) + " of the peak > " +
+                         std::to_string(bounds.force_rel));
+    }
+    b["meets_bounds"] = failures.empty();
+    b["bound_failures"] = failures;
+  }
 }
 
 }  // namespace rheo::fixedcmp

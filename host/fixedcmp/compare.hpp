@@ -23,6 +23,23 @@ struct CompareOptions {
   std::function<void(long long step)> progress;  // called after every step when set
 };
 
+// What a format must keep over the whole run against the double reference to pass
+// (`rheo fixed`'s word-length judgement; docs/backends.md, "rheo fixed: the bounds"):
+// positions (issue 5) and the plate force, the quantity the object model is for.
+struct Bounds {
+  // Max over steps and particles of the position error, relative to the object size.
+  double position_rel = 1e-3;
+  // Max over steps of |plate force - reference plate force|, relative to the reference's
+  // peak plate force: a format whose positions stay close while its plate rule drops
+  // forces (exact zeros at a large mass scale) fails here.
+  double force_rel = 1e-2;
+};
+
+// Adds to every backend of a compare() result "meets_bounds" (completed the run and kept
+// both bounds) and "bound_failures" (why not: refused or stopped, position, force), and
+// the bounds themselves as "position_bound_rel" and "force_bound_rel".
+void judge(nlohmann::json& result, const Bounds& bounds);
+
 // Runs the comparison; the JSON holds per backend the checkpoint errors, the running
 // maxima, the step reached (a backend stops at its first saturation, which is reported),
 // and the samples for the plots.

@@ -79,7 +79,11 @@ ParticleSweepResult SweepParticles(const ParticleSweepArgs& a) {
     const auto on_plate = hn::Gt(hn::Load(d, plate + i), zero);
     const V held = hn::Load(d, held_state + i);
     const V plate_velocity = hn::Mul(hn::Sub(plate_z, z_start), inverse_dt);
-    const auto through = hn::And(on_plate, hn::Gt(x[2], plate_z));
+    // Through the plate, or held before, exactly on it now and pushing (the reference's
+    // rule, sim/particle_rule.hpp).
+    const auto tie = hn::And(hn::Eq(x[2], plate_z), hn::Gt(force_z, zero));
+    const auto through =
+        hn::And(on_plate, hn::Or(hn::Gt(x[2], plate_z), hn::And(hn::Gt(held, zero), tie)));
     auto kept = hn::And(on_plate, hn::And(hn::Gt(held, zero), hn::Gt(force_z, zero)));
     if (!hold_while_pushing) kept = hn::And(kept, hn::Lt(one, zero));
     kept = hn::AndNot(through, kept);

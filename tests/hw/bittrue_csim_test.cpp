@@ -94,5 +94,54 @@ TEST(BitTrueCsim, OneAndTwoLanesGiveIdenticalWords) {
   EXPECT_EQ(states[0], states[1]);
 }
 
+// The plate rule on rounded positions. A particle that sat on the plate (at the previous
+// step's plate height) stays on it, with its force counted, while its new displacement
+// exceeds the plate's step (p.z > lim), as the double reference keeps it while v > V_plate.
+// Decided on the rounded position (x.z > plate_z), a held particle whose force moves it
+// less than half an X LSB per step beyond the plate landed exactly on the plate and was
+// dropped with its force: exact-zero plate forces at large mass scales (issue 40).
+TEST(BitTrueCsim, AParticleOnThePlateStaysWhileItMovesFasterThanThePlate) {
+  using Fmt = hls::HardwareFormat;
+  constexpr int kShift = Fmt::kFracP - Fmt::kFracX;
+  hls::MpmGlobals g;
+  hls::write_control(g, true, true, false);
+  g.plate_z = std::int64_t(5) << Fmt::kFracX;  // 5 Lu
+  hls::start_step(g, g.plate_z + 100);         // the plate moves up 100 X LSB this step
+  const std::int64_t lim = std::int64_t(100) << kShift;
+  hls::MpmParticle on{};
+  on.flags = hls::kCorePlate;
+  on.minv = hls::Coef{0, 0};  // no velocity change from the force: p.z carries it
+  on.x[2] = g.plate_z_prev;
+  const std::int64_t f[3] = {0, 0, 1000};
+  std::uint32_t status = 0;
+  // 3 P LSB faster than the plate: the rounded position lands on the plate; it stays.
+  hls::MpmParticle faster = on;
+  faster.p[2] = lim + 3;
+  EXPECT_EQ(hls::mpm_particle<Fmt>(faster, f, g, &status), f[2]);
+  EXPECT_EQ(faster.x[2], g.plate_z);
+  EXPECT_EQ(faster.p[2], lim) << "p.z = min(p.z, lim): it moves with the plate";
+  // Exactly as fast, or slower: it leaves the plate, and its force is not the plate's.
+  for (const std::int64_t p : {lim, lim - 3}) {
+    hls::MpmParticle slower = on;
+    slower.p[2] = p;
+    EXPECT_EQ(hls::mpm_particle<Fmt>(slower, f, g, &status), 0) << "p.z - lim = " << p - lim;
+    EXPECT_EQ(slower.x[2], g.plate_z) << "its rounded position is still the plate's";
+    EXPECT_EQ(slower.p[2], p);
+  }
+  // Not on the plate before (one X LSB below it): the position decides, as before.
+  hls::MpmParticle below = on;
+  below.x[2] = g.plate_z_prev - 1;
+  below.p[2] = lim + 3 + (std::int64_t(1) << kShift);
+  EXPECT_EQ(hls::mpm_particle<Fmt>(below, f, g, &status), 0);
+  EXPECT_EQ(below.x[2], g.plate_z);
+  // After a control write the previous height is not known: the position decides.
+  hls::MpmGlobals fresh = g;
+  hls::write_control(fresh, true, true, false);
+  hls::MpmParticle unknown = on;
+  unknown.p[2] = lim + 3;
+  EXPECT_EQ(hls::mpm_particle<Fmt>(unknown, f, fresh, &status), 0);
+  EXPECT_EQ(status, 0u);
+}
+
 }  // namespace
 }  // namespace rheo::driver

@@ -37,6 +37,10 @@ struct Expected {
 struct Coverage {
   int checked = 0, saturated = 0, held = 0, floored = 0, fixed = 0, left_shift = 0;
   int kept = 0;  // held in the previous step and pushing, with hold-while-pushing on
+  // Plate particles on the plate before whose new displacement is within half an X LSB of
+  // the plate's step (their rounded position lands on the plate): held when p.z > lim, and
+  // free otherwise.
+  int stayed = 0, left = 0;
   int rounds_out = 0;  // minv f rounds to exactly 2^31: the rounding leaves the word
   int rounds_to_min = 0;  // minv f rounds to exactly -2^31 from below: the word's end
 };
@@ -98,6 +102,7 @@ class RtlMpmTest : public ::testing::Test {
     mpm_->plate_en_i = g.plate_enable;
     mpm_->floor_en_i = g.floor_enable;
     mpm_->hold_en_i = g.plate_hold && g.plate_prev_valid;
+    mpm_->prev_valid_i = g.plate_prev_valid;
     mpm_->plate_prev_i = std::uint32_t(g.plate_z_prev);
   }
 
@@ -195,6 +200,25 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
       // A third of the particles sit at the previous plate height (held in the previous
       // step, if they are plate particles).
       if (unit(rng) < 0.3) q.x[2] = g.plate_z_prev;
+      // A sixth sat on the plate (at the previous plate height) and move within half an X
+      // LSB of the plate's step: p.z + minv f.z + g.z = lim + delta, |delta| < 8, so their
+      // rounded position lands on the plate. They stay on it when delta > 0 (p.z > lim, as
+      // the reference's v > V_plate) and leave it otherwise.
+      int delta = 0;
+      bool near_step = false;
+      if (!extreme && unit(rng) < 1.0 / 6.0) {
+        const int s = q.minv.shift + CoefShifts<Fmt>::kMinv;
+        const i128 dp = shift_round<Fmt::kRounding>(i128(f[2]) * q.minv.mant, s);
+        const i128 lim = (i128(g.plate_z) - g.plate_z_prev) << (Fmt::kFracP - Fmt::kFracX);
+        delta = std::uniform_int_distribution<int>(-7, 7)(rng);
+        const i128 p = lim + delta - dp - g.g[2];
+        const auto fits = [](i128 v) { return v >= INT32_MIN && v <= INT32_MAX; };
+        if (fits(lim) && fits(p) && fits(i128(p) + dp) && fits(dp)) {
+          q.x[2] = g.plate_z_prev;
+          q.p[2] = std::int64_t(p);
+          near_step = true;
+        }
+      }
       const double kind = unit(rng);
       q.flags = kind < 0.15 ? kCoreFixed
                 : kind < 0.5 ? kCorePlate
@@ -208,6 +232,10 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
                    g.plate_prev_valid && q.x[2] == g.plate_z_prev && f[2] > 0 &&
                    e.out.x[2] == g.plate_z;
       cov_.floored += !(q.flags & kCoreFixed) && g.floor_enable && e.out.x[2] == 0;
+      const bool near = near_step && q.flags == kCorePlate && g.plate_enable &&
+                        g.plate_prev_valid && f[2] != 0 && e.out.x[2] == g.plate_z;
+      cov_.stayed += near && delta > 0 && e.plate_force == f[2];
+      cov_.left += near && delta <= 0 && !(g.plate_hold && f[2] > 0) && e.plate_force == 0;
       clock();
       if (HasFatalFailure()) return;
     }
@@ -224,6 +252,8 @@ TEST_F(RtlMpmTest, MatchesTheBitTrueMpmWordForWordOnRandomParticlesAtOneParticle
   EXPECT_GT(cov_.held, 1000) << "plate particles above an enabled plate";
   EXPECT_GT(cov_.kept, 1000) << "plate particles kept because they push (hold while pushing)";
   EXPECT_GT(cov_.floored, 1000) << "free particles below an enabled floor";
+  EXPECT_GT(cov_.stayed, 300) << "on the plate before, moving faster than it by < 1/2 X LSB";
+  EXPECT_GT(cov_.left, 300) << "on the plate before, not faster than it";
   EXPECT_GT(cov_.fixed, 1000);
   EXPECT_GT(cov_.left_shift, 100) << "coefficient words whose product shifts left";
   EXPECT_GT(cov_.rounds_out, 10) << "products whose rounding carries out of the word";
