@@ -8,21 +8,13 @@
 
 namespace rheo::identify {
 
-TwoArms relaxation_arms(const FourElementB& b) {
-  const double a0 = b.E1 * b.E2 / (b.c1 * b.c2);
-  const double a1 = ((b.E1 + b.E2) * b.c1 + b.E1 * b.c2) / (b.c1 * b.c2);
-  const double b0 = a0 * (b.c1 + b.c2);
-  const double b1 = b.E2;
-  const double disc = std::sqrt(a1 * a1 - 4.0 * a0);
-  const double r_fast = 0.5 * (a1 + disc), r_slow = 0.5 * (a1 - disc);
-  // g_slow + g_fast = B1 and g_slow r_slow + g_fast r_fast = B0.
-  const double g_fast = (b0 - b1 * r_slow) / (r_fast - r_slow);
-  const double g_slow = b1 - g_fast;
-  return {g_slow, 1.0 / r_slow, g_fast, 1.0 / r_fast};
+RelaxationArms relaxation_arms(const FourElementB& b) {
+  return rheo::relaxation_arms(
+      rheo::four_element_law(rheo::FourElementNetwork::kB, {b.E1, b.E2, b.c1, b.c2}));
 }
 
 SpecimenParams clay_column_params(const FourElementB& b, double voigt_share) {
-  const TwoArms arms = relaxation_arms(b);
+  const RelaxationArms arms = relaxation_arms(b);
   SpecimenParams p;
   const double eta = arms.g_slow * arms.tau_slow;
   p.E1 = arms.g_slow;

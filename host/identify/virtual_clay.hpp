@@ -7,6 +7,7 @@
 
 #include "host/identify/measurement.hpp"
 #include "host/identify/specimen.hpp"
+#include "sim/four_element.hpp"
 
 namespace rheo::identify {
 
@@ -18,17 +19,12 @@ struct FourElementB {
   double c2 = 8.3402e5;  // [Pa s]
 };
 
-// Model (b)'s law s'' + A1 s' + A0 s = B1 e'' + B0 e' (Table I) has relaxation modulus
-// G(t) = g_slow exp(-t/tau_slow) + g_fast exp(-t/tau_fast) with rates the roots of
-// r^2 - A1 r + A0 and g_slow + g_fast = B1, g_slow/tau_slow + g_fast/tau_fast = B0: two
-// Maxwell arms in parallel. The slow arm goes to the three-element edge (E1 = g_slow,
-// c1 + c2 = g_slow tau_slow, with a small Voigt viscosity c1 = voigt_share (c1 + c2) that
-// only sets how fast the elastic recovery after release is), the fast arm to the parallel
-// Maxwell arm (E2 = g_fast, c3 = g_fast tau_fast).
-struct TwoArms {
-  double g_slow, tau_slow, g_fast, tau_fast;
-};
-TwoArms relaxation_arms(const FourElementB& b);
+// Model (b)'s relaxation modulus (sim/four_element.hpp): G(t) = 83.19 kPa e^(-t/4.566 s) +
+// 40.34 kPa e^(-t/534.1 s) for Table II. The slow arm goes to the three-element edge
+// (E1 = g_slow, c1 + c2 = g_slow tau_slow, with a small Voigt viscosity c1 = voigt_share
+// (c1 + c2) that only sets how fast the elastic recovery after release is), the fast arm to
+// the parallel Maxwell arm (E2 = g_fast, c3 = g_fast tau_fast).
+RelaxationArms relaxation_arms(const FourElementB& b);
 SpecimenParams clay_column_params(const FourElementB& b, double voigt_share = 1e-3);
 
 // Plate history sampled at `rate_hz`: push at push_speed to depth, hold, retract at

@@ -55,7 +55,7 @@ TEST(SpecimenModel, HeldStrainRelaxesWithTimeConstantC1PlusC2OverE1) {
 
 TEST(SpecimenModel, ClayParametersRelaxWithTheTwoExponentialsOfSeed002ModelB) {
   const FourElementB b;
-  const TwoArms arms = relaxation_arms(b);
+  const RelaxationArms arms = relaxation_arms(b);
   EXPECT_NEAR(arms.tau_fast, 4.566, 1e-2);
   EXPECT_NEAR(arms.tau_slow, 534.1, 1.0);
   EXPECT_NEAR(arms.g_fast + arms.g_slow, b.E2, 1e-6 * b.E2);
