@@ -85,6 +85,9 @@ void run(const CosimArgs& args) {
       args.trace.empty()
           ? ""
           : out.stage_file(args.trace, {fs::path(args.trace).replace_extension(".gtkw").string()});
+  opt.check_trace_size = [&args](double bytes, const std::string& breakdown) {
+    check_output_budget(args.output, bytes, breakdown + "; --trace-steps traces fewer");
+  };
   Progress progress("step", opt.steps, progress_enabled(args.quiet));
   opt.progress = [&progress](long step) { progress.update(step); };
   const cosim::CosimResult r = cosim::run_cosim(scenario, opt);
@@ -237,7 +240,8 @@ void register_cosim(CLI::App& app) {
                   "(FILE.fst -> FILE.gtkw: opens on step 1, words in mm, m/s and N)");
   cmd->add_option("--trace-steps", args->trace_steps,
                   "steps covered by the waveform, from the start (default 100, 0 = all: about "
-                  "0.8 MB per step on block5)")
+                  "1.2 MB per step on block5, 20 MB on block15; the estimate counts against "
+                  "--max-output-gb)")
       ->check(whole_number_in(0, kMaxSteps, "a number of steps (0: all)"));
   cmd->add_option("--compare-every", args->compare_every,
                   "read back and compare the particles' positions and velocities every K steps "

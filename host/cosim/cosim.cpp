@@ -69,8 +69,20 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   // The image rheo_core holds, for the figures (units, schedule rows, cycle formula).
   const CoreImage image =
       driver::make_core_image(model, start, dt, opt.lanes, driver::FormatDesc{}, *element);
+  if (!opt.trace_fst.empty() && opt.check_trace_size) {
+    // rheo_core's cycle formula (the core a waveform is written for) before the core exists.
+    const long cycles = driver::cycles_per_step_formula(image.edge_rows, image.num_particles,
+                                                        opt.lanes, *element);
+    const long traced = opt.trace_steps == 0 ? opt.steps : std::min(opt.trace_steps, opt.steps);
+    std::ostringstream why;
+    why << "waveform of " << traced << " steps x " << cycles << " clocks per step x about "
+        << kTraceBytesPerClock << " bytes per clock";
+    opt.check_trace_size(double(traced) * double(cycles) * kTraceBytesPerClock, why.str());
+  }
   dut->load(model, start, scenario.options);
   golden->load(model, start, scenario.options);
+  res.cycles_per_step_formula = dut->cycles_per_step_formula().value_or(
+      driver::cycles_per_step_formula(image.edge_rows, image.num_particles, opt.lanes, *element));
   res.dut_name = opt.dut;
   res.golden_name = opt.golden;
   res.particles = image.num_particles;
@@ -80,8 +92,6 @@ CosimResult run_cosim(const Scenario& scenario, const CosimOptions& opt) {
   res.length_unit_m = image.units.length_m;
   res.force_unit_N = image.units.force_N;
   res.dt_s = dt;
-  res.cycles_per_step_formula = dut->cycles_per_step_formula().value_or(
-      driver::cycles_per_step_formula(image.edge_rows, image.num_particles, opt.lanes, *element));
   res.dut_description = dut->describe();
   if (res.dut_description.contains("lanes")) res.lanes = res.dut_description["lanes"].get<int>();
   const std::optional<backend::CoreClock> clock_start = dut->clock();

@@ -141,6 +141,32 @@ TEST_F(NothingLost, AWaveformFollowsTheRuleOfTheOutputDirectory) {
   EXPECT_TRUE(fs::exists(path("t/new.gtkw")));
   expect_no_staging();
 }
+
+// A waveform is an output like any other: one that would exceed --max-output-gb is refused
+// before the core is loaded, with the estimate and what makes it up, and nothing is written.
+TEST_F(NothingLost, AWaveformOverTheOutputBudgetIsRefusedBeforeTheRun) {
+  // block5's whole protocol traced: 10,000 steps x 1,218 clocks, about 12 GB.
+  RunResult r = run_rheo("cosim --scenario block5 -q --trace-steps 0 --trace " +
+                         path("w/all.fst") + " --out " + path("c"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("rheo: error: this run would write about 12.2 GB, more than the 2 GB "
+                          "allowed (waveform of 10000 steps x 1218 clocks per step"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("--trace-steps traces fewer"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--max-output-gb"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(path("w/all.fst")));
+  EXPECT_FALSE(fs::exists(path("c")));
+  // Two traced steps (about 2.4 MB) against a 1 MB limit, then within the default one.
+  r = run_rheo("cosim --scenario block5 --steps 2 -q --max-output-gb 0.001 --trace " +
+               path("w/a.fst") + " --out " + path("c"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("waveform of 2 steps"), std::string::npos) << r.output;
+  r = run_rheo("cosim --scenario block5 --steps 2 -q --trace " + path("w/a.fst") + " --out " +
+               path("c"));
+  EXPECT_EQ(r.status, 0) << r.output;
+  expect_no_staging();
+}
 #endif
 
 TEST_F(NothingLost, ASignalLeavesNothingAndEndsWith128PlusItsNumber) {
