@@ -3,9 +3,11 @@
 // same reader, so a built-in can never hold something a user file could not.
 #include "sim/scenario.hpp"
 
+#include <cstdio>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -697,8 +699,13 @@ int Scenario::default_steps() const {
   }
   const double steps = std::ceil(duration / options.dt - 1e-9);
   if (!(steps >= 1.0) || steps > std::numeric_limits<int>::max()) {
-    throw Error("scenario " + name + ": duration " + std::to_string(duration) + " s with dt " +
-                std::to_string(options.dt) + " s gives no valid step count");
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "scenario %s: a duration of %.6g s (duration_s, or the protocol's and tool "
+                  "paths' end) in steps of %.6g s (/integrator/dt_s) is %.3g steps; expected 1 "
+                  "to %d (give --steps or --duration to run part of it)",
+                  name.c_str(), duration, options.dt, steps, std::numeric_limits<int>::max());
+    throw Error(text);
   }
   return static_cast<int>(steps);
 }
@@ -710,8 +717,19 @@ std::vector<std::string> builtin_scenarios() {
 }
 
 Scenario load_scenario(const std::string& name_or_path) {
+  std::error_code ec;
+  const bool file_exists = std::filesystem::exists(name_or_path, ec);
   if (const std::string* text = find_builtin_scenario_text(name_or_path)) {
+    if (file_exists) {
+      throw Error(name_or_path + ": both a built-in scenario and a file in this directory have "
+                  "this name; give the file as ./" + name_or_path +
+                  " or the built-in one from another directory");
+    }
     return parse_scenario(*text, "built-in scenario " + name_or_path);
+  }
+  if (std::filesystem::is_directory(name_or_path, ec)) {
+    throw Error(name_or_path + ": is a directory; expected a scenario file (JSON) or a "
+                "built-in scenario name");
   }
   std::ifstream in(name_or_path, std::ios::binary);
   if (!in) {

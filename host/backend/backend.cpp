@@ -74,9 +74,10 @@ std::string num(double v, int precision = 3) {
 }  // namespace
 
 void PlateResolution::load(const Model& model, double dt, double position_lsb_m,
-                           std::string format) {
+                           std::string format, bool double_precision) {
   *this = PlateResolution{};
   format_ = std::move(format);
+  double_precision_ = double_precision;
   mass_scale_ = model.mass_scale;
   dt_ = dt;
   lsb_ = position_lsb_m;
@@ -137,9 +138,11 @@ void PlateResolution::refuse_if_unresolved() const {
               " such steps: the plate rule would decide its contact by rounding and drop its "
               "force. The largest mass scale this format resolves at this speed is " +
               num(limit) + " (the slowest plate it resolves at this mass scale: " +
-              num(slowest_speed_ * 1e3) + " mm/s); a larger dt, the hold_while_pushing plate "
-              "rule or --backend ref resolve it too (docs/backends.md, \"Plate force "
-              "resolution\")");
+              num(slowest_speed_ * 1e3) + " mm/s); a larger dt or the hold_while_pushing "
+              "plate rule resolve it too" +
+              (double_precision_ ? std::string()
+                                 : std::string(", as does --backend ref (double precision)")) +
+              " (docs/backends.md, \"Plate force resolution\")");
 }
 
 nlohmann::json PlateResolution::describe() const {
@@ -147,12 +150,14 @@ nlohmann::json PlateResolution::describe() const {
           {"slowest_resolved_plate_speed_m_s", slowest_speed_}};
 }
 
-double float_position_lsb(double z) {
+double position_lsb(double z, int significand_bits) {
   const double a = std::abs(z);
   if (!(a > 0.0) || !std::isfinite(a)) return 0.0;
-  // float: 24-bit significand, so the spacing in [2^e, 2^(e+1)) is 2^(e - 23).
-  return std::ldexp(1.0, std::ilogb(a) - 23);
+  // A p-bit significand spaces the values in [2^e, 2^(e+1)) by 2^(e - p + 1).
+  return std::ldexp(1.0, std::ilogb(a) - (significand_bits - 1));
 }
+
+double float_position_lsb(double z) { return position_lsb(z, 24); }
 
 void check_gravity_word(const Model& model, double dt, double length_unit_m, int frac_p,
                         const std::int64_t word[3], const std::string& format) {

@@ -171,8 +171,10 @@ class PlateResolution {
 
   // For the model a backend computes (driver::hardware_model's), its step dt [s] and its
   // position word's resolution at the plate's height [m]; `format` names the arithmetic
-  // in messages (e.g. "float (24-bit significand)").
-  void load(const Model& model, double dt, double position_lsb_m, std::string format);
+  // in messages (e.g. "float (24-bit significand)"); `double_precision`: the format is the
+  // reference's own (no wider backend to suggest).
+  void load(const Model& model, double dt, double position_lsb_m, std::string format,
+            bool double_precision = false);
   // Throws rheo::Error when the plate's fastest speed since the load, these heights
   // included, is above 0 and leaves a plate particle's damper force below kMargin force
   // steps. check() takes the heights of the next steps (continuing from the last height it
@@ -195,6 +197,7 @@ class PlateResolution {
   double slowest_speed_ = 0.0;  // max over plate particles of force step / (kMargin damping)
   double force_step_ = 0.0, damping_ = 0.0, mass_ = 0.0;  // of that particle
   int particle_ = -1;
+  bool double_precision_ = false;
   double fastest_ = 0.0;  // plate speed since the load
   double last_z_ = 0.0;
   bool have_last_ = false;
@@ -203,6 +206,9 @@ class PlateResolution {
 // The position word's resolution of single precision at height z [m]: the spacing of
 // floats in [2^e, 2^(e+1)) holding |z|.
 double float_position_lsb(double z);
+// The spacing of a floating-point format with a `significand_bits`-bit significand at z
+// (24: float, 53: double).
+double position_lsb(double z, int significand_bits);
 
 // For fixed-point images: throws rheo::Error when the core's gravity word (g dt^2 / Lu in
 // the velocity format) is off from its exact value by more than 1 % (mass-scaled gravity

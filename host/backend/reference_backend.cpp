@@ -21,6 +21,12 @@ class ReferenceBackend : public Backend {
     scalar_.reset();
     fast_.reset();
     note_.clear();
+    // Double precision resolves a position to the double spacing at the plate's height: at
+    // an extreme mass scale or step (block5 at mass_scale 1e14, or dt = 1e-9 s) a held
+    // particle's displacement beyond the plate's step is below it, and the plate rule
+    // decided its contact by rounding (0 N in most steps). Refused like float's.
+    plate_.load(model, options.dt, position_lsb(model.height, 53), "double (53-bit significand)",
+                true);
     const std::string refusal = cpu_.fast ? fast::fast_path_refusal(model, options) : "";
     if (cpu_.fast && refusal.empty()) {
       fast_ = std::make_unique<fast::FastSimulator>(model, options, cpu_.threads);
@@ -37,6 +43,7 @@ class ReferenceBackend : public Backend {
 
   std::vector<double> run(std::span<const double> plate_z) override {
     if (!scalar_ && !fast_) throw Error("reference backend: no model loaded");
+    plate_.check(plate_z);
     std::vector<double> force;
     force.reserve(plate_z.size());
     cached_ = false;
@@ -53,6 +60,7 @@ class ReferenceBackend : public Backend {
                                 std::vector<ToolReaction>& reactions) override {
     if (!scalar_ && !fast_) throw Error("reference backend: no model loaded");
     if (fast_) return Backend::run_tools(plate_z, poses, reactions);  // the fast path refuses tools
+    plate_.check(plate_z);
     const std::size_t tools = scalar_->model().tools.size();
     if (poses.size() != plate_z.size() * tools) {
       throw Error("reference backend: " + std::to_string(poses.size()) + " tool poses for " +
@@ -90,6 +98,7 @@ class ReferenceBackend : public Backend {
   }
 
   std::vector<std::string> dropped_features() const override { return {}; }
+  void check_plate_heights(std::span<const double> plate_z) override { plate_.check_path(plate_z); }
 
   nlohmann::json describe() const override {
     nlohmann::json j = nlohmann::json::object();
@@ -104,6 +113,7 @@ class ReferenceBackend : public Backend {
   std::unique_ptr<Simulator> scalar_;
   std::unique_ptr<fast::FastSimulator> fast_;
   std::string note_;  // why the scalar path runs
+  PlateResolution plate_;
   // The fast path's state in the scalar layout, converted once after each run.
   mutable State cache_;
   mutable bool cached_ = false;

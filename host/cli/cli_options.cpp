@@ -18,7 +18,12 @@ void add_output_options(CLI::App* cmd, OutputOptions& options) {
   cmd->add_option("--out", options.out,
                   "output directory; results appear there only when the run succeeded; it must "
                   "not exist or be empty unless --force is given")
-      ->required();
+      ->required()
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return text.empty() ? "expected a directory name, got an empty one" : "";
+          },
+          "DIR"));
   cmd->add_flag("--force,-f", options.force,
                 "replace the content of an existing non-empty --out directory (only after the "
                 "run succeeded; refused when DIR holds an input of the command or the working "
@@ -149,8 +154,11 @@ CLI::Option* add_steps_option(CLI::App* cmd, std::optional<long long>& steps,
 }
 
 long long steps_for_duration(double duration_s, double dt, const std::string& option) {
-  const double steps = std::ceil(duration_s / dt - 1e-9);
-  if (!std::isfinite(duration_s) || !(steps >= 1.0) || steps > static_cast<double>(kMaxSteps)) {
+  // Rounded up to whole steps, but at least one whole step: a shorter duration is a typo.
+  const double exact = duration_s / dt;
+  const double steps = std::ceil(exact - 1e-9);
+  if (!std::isfinite(duration_s) || !(exact >= 1.0 - 1e-9) ||
+      steps > static_cast<double>(kMaxSteps)) {
     char text[160];
     std::snprintf(text, sizeof text, "%s %g s: expected a duration of 1 to %lld steps of dt = %g s",
                   option.c_str(), duration_s, kMaxSteps, dt);

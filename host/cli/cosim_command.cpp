@@ -235,14 +235,21 @@ void register_cosim(CLI::App& app) {
   cmd->add_option("--scenario", args->scenario, "built-in scenario name or JSON file")->required();
   add_steps_option(cmd, args->steps, "number of steps (default: the scenario's duration)");
   add_lanes_option(cmd, args->lanes, "the core");
-  cmd->add_option("--trace", args->trace,
-                  "write an FST waveform to this file and a GTKWave save file beside it "
-                  "(FILE.fst -> FILE.gtkw: opens on step 1, words in mm, m/s and N)");
+  CLI::Option* trace =
+      cmd->add_option("--trace", args->trace,
+                      "write an FST waveform to this file and a GTKWave save file beside it "
+                      "(FILE.fst -> FILE.gtkw: opens on step 1, words in mm, m/s and N)")
+          ->check(CLI::Validator(
+              [](std::string& text) -> std::string {
+                return text.empty() ? "expected a file name, got an empty one" : "";
+              },
+              "FILE"));
   cmd->add_option("--trace-steps", args->trace_steps,
                   "steps covered by the waveform, from the start (default 100, 0 = all: about "
                   "1.2 MB per step on block5, 20 MB on block15; the estimate counts against "
                   "--max-output-gb)")
-      ->check(whole_number_in(0, kMaxSteps, "a number of steps (0: all)"));
+      ->check(whole_number_in(0, kMaxSteps, "a number of steps (0: all)"))
+      ->needs(trace);
   cmd->add_option("--compare-every", args->compare_every,
                   "read back and compare the particles' positions and velocities every K steps "
                   "(the plate force is compared every step, the whole state with the Voigt "

@@ -124,7 +124,8 @@ void run_simulate(const SimulateArgs& args) {
   const Scenario scenario = load_scenario(args.scenario);
   const Model model = scenario.build_model();
   const double dt = scenario.options.dt;
-  long long steps = scenario.default_steps();
+  // The scenario's duration only when neither --steps nor --duration says otherwise.
+  long long steps = args.steps || args.duration_s ? 0 : scenario.default_steps();
   if (args.steps) steps = *args.steps;
   if (args.duration_s) steps = steps_for_duration(*args.duration_s, dt, "--duration");
 
@@ -279,15 +280,18 @@ void run_simulate(const SimulateArgs& args) {
     double frame_bytes = 0.0;
     for (const auto& e : fs::recursive_directory_iterator(fs::path(dir) / "vtk", ec))
       if (e.is_regular_file(ec)) frame_bytes += static_cast<double>(e.file_size(ec));
-    const double frames = std::floor(run_s / vtk_interval + 1e-9) + 1.0;
-    const double rows = std::floor(run_s / csv_interval + 1e-9) + 1.0;
+    // At most one frame and one row per step, and one at the start.
+    const double most = static_cast<double>(steps) + 1.0;
+    const double frames = std::min(std::floor(run_s / vtk_interval + 1e-9) + 1.0, most);
+    const double rows = std::min(std::floor(run_s / csv_interval + 1e-9) + 1.0, most);
     const double row_bytes = 60.0 + 170.0 * static_cast<double>(tools) +
                              (objects > 1 ? 100.0 * objects : 0.0);
     const double vtk_bytes = frames * frame_bytes, csv_bytes = rows * row_bytes;
     char breakdown[300];
     std::snprintf(breakdown, sizeof breakdown,
-                  "%.0f VTK frames of %.3g MB, one every %g s (output.vtk_interval_s), and %.0f "
-                  "CSV rows of about %.0f bytes, one every %g s (output.csv_interval_s)",
+                  "%.0f VTK frames of %.3g MB, one every %g s (output.vtk_interval_s, at most "
+                  "one per step), and %.0f CSV rows of about %.0f bytes, one every %g s "
+                  "(output.csv_interval_s)",
                   frames, frame_bytes / 1e6, vtk_interval, rows, row_bytes, csv_interval);
     check_output_budget(args.output, vtk_bytes + csv_bytes, breakdown);
   }

@@ -445,6 +445,40 @@ std::string refusal(Backend& b, const Model& model, const Scenario& s,
   return "";
 }
 
+// The double reference has a resolution too: at mass_scale 1e14, or at dt = 1e-9 s, a held
+// plate particle's displacement beyond the plate's step is below the double spacing at the
+// plate (6.9e-18 m on block5), and the plate rule dropped its force by rounding: 0 N in most
+// steps, exit 0. Both are refused before the first step; block5 as shipped is computed.
+TEST(Backend, TheDoubleReferenceRefusesAPlateItCannotResolve) {
+  for (const bool fast_path : {true, false}) {
+    Options options;
+    options.cpu.fast = fast_path;
+    Scenario heavy = block5_variant(load_scenario("block5").block.material.k1, 1e14);
+    Scenario fine = load_scenario("block5");
+    fine.options.dt = 1e-9;
+    for (const Scenario* s : {&heavy, &fine}) {
+      const Model model = s->build_model();
+      std::unique_ptr<Backend> b = make_backend("ref", options);
+      b->load(model, initial_state(model), s->options);
+      const std::vector<double> path = plate_path(*s, model, 100);
+      try {
+        b->run(path);
+        ADD_FAILURE() << fast_path << " computed a plate it cannot resolve, dt " << s->options.dt;
+      } catch (const Error& e) {
+        const std::string why = e.what();
+        EXPECT_NE(why.find("too large for double (53-bit significand)"), std::string::npos)
+            << why;
+        EXPECT_EQ(why.find("--backend ref"), std::string::npos) << why;
+      }
+    }
+    const Scenario shipped = load_scenario("block5");
+    const Model model = shipped.build_model();
+    std::unique_ptr<Backend> b = make_backend("ref", options);
+    b->load(model, initial_state(model), shipped.options);
+    EXPECT_EQ(b->run(plate_path(shipped, model, kPushSteps)).size(), kPushSteps + 1u);
+  }
+}
+
 // block5 at mass scales 3e6 and 3e7: the reference pushes back with 10.6 and 10.8 N; float,
 // bittrue and the fixed-point formats returned exact zeros for most of the push (100 % of
 // the peak off at 3e7, 19 % at 3e6 on bittrue) and exited 0. Now each refuses the model

@@ -114,6 +114,9 @@ TEST_F(BadInputTest, NumericOptionsOutsideTheirRangeAreRefusedWithTheRange) {
       {"bench-link --steps -1", "from 1 to 10000000"},
       {"bench-link --state-every 0", "from 1 to 1000000"},
       {"bench-link --window 100000000", "from 1 to 65536"},
+      {"simulate --scenario block5 --duration 1e-9", "--duration 1e-09 s: expected a duration"},
+      {"cosim --scenario block5 --steps 2 --trace-steps 5", "--trace-steps requires --trace"},
+      {"cosim --scenario block5 --steps 2 --trace ''", "--trace: expected a file name"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
@@ -189,6 +192,36 @@ TEST_F(BadInputTest, AStagingDirectoryLeftByAKilledRunIsRemovedByTheNextRun) {
     EXPECT_EQ(e.path().filename().string().find(".out.partial-"), std::string::npos)
         << "left behind: " << e.path();
   }
+}
+
+}  // namespace
+
+namespace {
+
+TEST_F(BadInputTest, AnEmptyOutIsAnOptionError) {
+  const RunResult r = run_rheo("simulate --scenario block5 --steps 2 --out ''");
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("rheo: error: --out: expected a directory name"), std::string::npos)
+      << r.output;
+}
+
+// A file named like a built-in scenario is not silently passed over for the built-in one;
+// a directory given as a scenario is named as one.
+TEST_F(BadInputTest, AScenarioNameThatIsAlsoAFileOrADirectoryIsNamed) {
+  const fs::path dir = fs::path(path("here"));
+  fs::create_directories(dir / "block15");
+  std::ofstream(dir / "block5") << "{}";
+  RunResult r = run_rheo("simulate --scenario block5 --steps 2 -q --out " + out(), dir.string());
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("both a built-in scenario and a file"), std::string::npos) << r.output;
+  r = run_rheo("simulate --scenario block15 --steps 2 -q --out " + out(), dir.string());
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("both a built-in scenario and a file"), std::string::npos) << r.output;
+  r = run_rheo("simulate --scenario " + (dir / "block15").string() + " --steps 2 -q --out " +
+               out());
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("is a directory"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out()));
 }
 
 }  // namespace

@@ -221,10 +221,13 @@ TEST_F(NothingLost, ARunThatWouldFillTheDiskIsRefusedBeforeItStarts) {
   const std::size_t at = s.find(key);
   ASSERT_NE(at, std::string::npos) << s;
   s.replace(at, s.find_first_of(",\n}", at) - at, key + " 1e-9");
-  const RunResult r =
-      run_rheo("simulate --scenario " + write("tiny.json", s) + " --no-plot -q --out " + path("out"));
+  // At most one frame per step is written: 10,001 frames of about 41 kB (0.41 GB) over
+  // block5's 10,000 steps, refused against a 0.1 GB limit (it was counted as 1e10 frames).
+  const RunResult r = run_rheo("simulate --scenario " + write("tiny.json", s) +
+                               " --no-plot -q --max-output-gb 0.1 --out " + path("out"));
   EXPECT_EQ(r.status, 1) << r.output;
-  for (const char* w : {"would write about", "GB", "VTK frames", "vtk_interval_s", "--max-output-gb"})
+  for (const char* w : {"would write about 0.4", "GB", "10001 VTK frames", "vtk_interval_s",
+                        "at most one per step", "--max-output-gb"})
     EXPECT_NE(r.output.find(w), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(path("out")));
   expect_no_staging();
