@@ -183,6 +183,15 @@ void check_gravity_word(const Model& model, double dt, double length_unit_m, int
   }
 }
 
+bool is_backend_spec(const std::string& spec) {
+  for (const Registration& r : registry()) {
+    if (r.argument.empty() ? spec == r.name
+                           : spec.size() > r.name.size() + 1 && spec.starts_with(r.name + ":"))
+      return true;
+  }
+  return false;
+}
+
 std::unique_ptr<Backend> make_backend(const std::string& spec, const Options& options) {
   for (const Registration& r : registry()) {
     if (!r.argument.empty()) {

@@ -141,6 +141,9 @@ const std::vector<Registration>& registry();
 std::unique_ptr<Backend> make_backend(const std::string& spec, const Options& options = {});
 // "ref, float, bittrue, rtl, remote:PATH, sweep, sweep-bittrue or fixed:FORMAT", for help texts and errors.
 std::string backend_names();
+// Whether `spec` names a registered backend (its argument, e.g. a format, is checked when
+// the backend is made).
+bool is_backend_spec(const std::string& spec);
 
 // For backends that step the hardware's rule (semi-implicit Euler): checks the step of
 // `options` on `model` as the reference does (check_time_step) and names an integrator it

@@ -10,6 +10,7 @@
 
 #include "hls/edge_element.hpp"
 #include "hls/fixed_format.hpp"
+#include "host/backend/backend.hpp"
 #include "sim/error.hpp"
 
 namespace rheo::cli {
@@ -34,6 +35,15 @@ void add_output_options(CLI::App* cmd, OutputOptions& options) {
       ->check(number_in(0.0, 1e6, "a size in GB", true))
       ->capture_default_str();
   options.command = cmd;
+}
+
+CLI::Validator backend_spec() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        return backend::is_backend_spec(text) ? "" : "'" + text + "': expected " +
+                                                        backend::backend_names();
+      },
+      "BACKEND");
 }
 
 void check_output_budget(const OutputOptions& options, double estimate_bytes,

@@ -31,6 +31,8 @@ struct OutputOptions {
   std::vector<std::string> output_options{"--out"};  // options naming outputs, not inputs
 };
 void add_output_options(CLI::App* cmd, OutputOptions& options);
+// For --backend: refuses a name that no backend is registered under (an option error).
+CLI::Validator backend_spec();
 // Every existing file or directory named on the command line, other than by an output
 // option: what the command reads, and what --force must never delete.
 std::vector<std::string> input_paths(const OutputOptions& options);

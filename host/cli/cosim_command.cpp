@@ -265,7 +265,8 @@ void register_cosim(CLI::App& app) {
                   "rheo_core), remote:PATH (a cosim-server's core), sweep (the sweep core, "
                   "block15 on one XC2V6000, with its board SRAM; docs/sweep_core.md) or "
                   "sweep-bittrue")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(backend_spec());
   cmd->add_option("--idle-prob", args->idle_prob,
                   "rtl: probability per clock of an idle cycle on the core's input stream "
                   "(s_axis_tvalid low), default 0")

@@ -66,7 +66,8 @@ void register_haptic_server(CLI::App& app) {
   cmd->add_option("--backend", args->backend,
                   "what computes the scene: ref, or a core with its tool unit\n"
                   "(bittrue, rtl, remote:PATH: one plane, sphere or cylinder; docs/haptics.md)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(backend_spec());
   cmd->add_option("--timeout-ms", args->timeout_ms, "Longest wait for a hello or a begun frame")
       ->check(whole_number_in(1, 3'600'000, "a time in milliseconds"));
   cmd->add_option("--idle-timeout-s", args->idle_timeout_s,

@@ -481,7 +481,8 @@ void register_simulate(CLI::App& app) {
                   "what computes the run: " + backend::backend_names() +
                       " (docs/backends.md); ref is the double reference, float the hardware's "
                       "model in single precision; bittrue, rtl and remote give identical numbers")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(backend_spec());
   add_lanes_option(cmd, args->lanes, "an in-process rtl or bittrue core");
   add_cpu_options(cmd, args->cpu);
   cmd->callback([args]() { run_simulate(*args); });

@@ -117,6 +117,7 @@ TEST_F(BadInputTest, NumericOptionsOutsideTheirRangeAreRefusedWithTheRange) {
       {"simulate --scenario block5 --duration 1e-9", "--duration 1e-09 s: expected a duration"},
       {"cosim --scenario block5 --steps 2 --trace-steps 5", "--trace-steps requires --trace"},
       {"cosim --scenario block5 --steps 2 --trace ''", "--trace: expected a file name"},
+      {"simulate --scenario block5 --backend bogus", "--backend: 'bogus': expected ref, float"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
