@@ -12,11 +12,13 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "sim/error.hpp"
+#include "sim/input_pipe.hpp"
 #include "sim/scenarios/builtin.hpp"
 
 namespace rheo {
@@ -731,16 +733,23 @@ Scenario load_scenario(const std::string& name_or_path) {
     throw Error(name_or_path + ": is a directory; expected a scenario file (JSON) or a "
                 "built-in scenario name");
   }
-  std::ifstream in(name_or_path, std::ios::binary);
-  if (!in) {
+  std::optional<std::string> piped = read_if_pipe(name_or_path, kMaxScenarioBytes);
+  std::ifstream in;
+  if (!piped) in.open(name_or_path, std::ios::binary);
+  if (!piped && !in) {
     std::string known;
     for (const std::string& n : builtin_scenarios()) known += (known.empty() ? "" : ", ") + n;
     throw Error(name_or_path + ": no such built-in scenario (" + known +
                 ") and no readable scenario file");
   }
-  std::string text(kMaxScenarioBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
+  std::string text;
+  if (piped) {
+    text = std::move(*piped);
+  } else {
+    text.assign(kMaxScenarioBytes + 1, '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<std::size_t>(in.gcount()));
+  }
   if (text.size() > kMaxScenarioBytes) {
     throw Error(name_or_path + ": larger than " + std::to_string(kMaxScenarioBytes >> 10) +
                 " KiB; a scenario file is a few kB of JSON (is this the right file?)");

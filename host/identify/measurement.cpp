@@ -10,9 +10,11 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "sim/error.hpp"
+#include "sim/input_pipe.hpp"
 
 namespace rheo::identify {
 namespace {
@@ -81,11 +83,16 @@ constexpr std::size_t kMaxFileBytes = std::size_t{64} << 20;
 constexpr std::size_t kMaxRows = 200000;
 
 std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open file for reading");
-  std::string bytes(kMaxFileBytes + 1, '\0');
-  in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  bytes.resize(static_cast<std::size_t>(in.gcount()));
+  std::string bytes;
+  if (std::optional<std::string> piped = read_if_pipe(path, kMaxFileBytes)) {
+    bytes = std::move(*piped);
+  } else {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path + ": cannot open file for reading");
+    bytes.assign(kMaxFileBytes + 1, '\0');
+    in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    bytes.resize(static_cast<std::size_t>(in.gcount()));
+  }
   if (bytes.size() > kMaxFileBytes) {
     throw Error(path + ": larger than " + std::to_string(kMaxFileBytes >> 20) +
                 " MiB; a measurement file is expected to hold at most " + std::to_string(kMaxRows) +
@@ -178,6 +185,10 @@ bool Measurement::has_surface() const {
 }
 
 Measurement read_measurement_csv(const std::string& path) {
+  if (std::optional<std::string> piped = read_if_pipe(path, kMaxFileBytes)) {
+    std::istringstream in(*piped);
+    return read_measurement_csv(in, path);
+  }
   std::ifstream in(path);
   if (!in) throw Error(path + ": cannot open measurement file for reading");
   return read_measurement_csv(in, path);
