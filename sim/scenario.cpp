@@ -79,6 +79,13 @@ class Field {
     if (!(x > 0.0)) fail(what);
     return x;
   }
+  double between(double lo, double hi, const std::string& unit) const {
+    std::ostringstream what;
+    what << "a number from " << lo << " to " << hi << unit;
+    const double x = number(what.str());
+    if (!(x >= lo && x <= hi)) fail(what.str());
+    return x;
+  }
   double non_negative(const std::string& unit) const {
     const std::string what = "a non-negative finite number" + unit;
     const double x = number(what);
@@ -137,6 +144,10 @@ class Field {
 // Particle counts per axis. Large enough for the big hardware model (15x15x16) and the
 // tests; small enough that a typo (e.g. 1000) is caught instead of exhausting memory.
 constexpr int kMaxParticlesPerAxis = 200;
+// Block edge lengths [m] a scenario may give: 1 um to 10 m (the measurement files' specimen
+// lengths run from 1 um to 1 m).
+constexpr double kMinBlockSizeM = 1e-6;
+constexpr double kMaxBlockSizeM = 10.0;
 // Whole meshes are limited too: 200 per axis alone allows 8 M particles and ~100 M edges,
 // which runs out of memory (~6 GB) before the first step. 10^6 particles (~13 M edges of a
 // 26-neighbour lattice, ~1.5 GB of model and state) is far beyond what a run finishes in
@@ -175,10 +186,12 @@ void read_mesh(const Field& mesh, BlockSpec& block) {
   block.structure = structure == "truss" ? Structure::kTruss : Structure::kLattice;
   block.nx = mesh["nx"].integer_in(2, kMaxParticlesPerAxis);
   block.nz = mesh["nz"].integer_in(2, kMaxParticlesPerAxis);
-  block.sx = mesh["sx_m"].positive(" [m]");
+  // Sizes a lattice of doubles resolves: below a micrometre the rest lengths and the forces
+  // of its edges lose their digits (1e-300 m gave rest lengths of exactly 0).
+  block.sx = mesh["sx_m"].between(kMinBlockSizeM, kMaxBlockSizeM, " [m]");
   // In 2D the block lies in the x-z plane and sy is its depth (mass, stiffness per depth).
-  block.sy = mesh["sy_m"].positive(" [m]");
-  block.sz = mesh["sz_m"].positive(" [m]");
+  block.sy = mesh["sy_m"].between(kMinBlockSizeM, kMaxBlockSizeM, " [m]");
+  block.sz = mesh["sz_m"].between(kMinBlockSizeM, kMaxBlockSizeM, " [m]");
   if (block.dim == 3) {
     block.ny = mesh["ny"].integer_in(2, kMaxParticlesPerAxis);
   } else {

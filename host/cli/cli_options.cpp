@@ -20,11 +20,7 @@ void add_output_options(CLI::App* cmd, OutputOptions& options) {
                   "output directory; results appear there only when the run succeeded; it must "
                   "not exist or be empty unless --force is given")
       ->required()
-      ->check(CLI::Validator(
-          [](std::string& text) -> std::string {
-            return text.empty() ? "expected a directory name, got an empty one" : "";
-          },
-          "DIR"));
+      ->check(non_empty_name("a directory name", "DIR"));
   cmd->add_flag("--force,-f", options.force,
                 "replace the content of an existing non-empty --out directory (only after the "
                 "run succeeded; refused when DIR holds an input of the command or the working "
@@ -35,6 +31,32 @@ void add_output_options(CLI::App* cmd, OutputOptions& options) {
       ->check(number_in(0.0, 1e6, "a size in GB", true))
       ->capture_default_str();
   options.command = cmd;
+}
+
+CLI::Validator non_empty_name(const std::string& what, const std::string& metavar) {
+  return CLI::Validator(
+      [what](std::string& text) -> std::string {
+        return text.empty() ? "expected " + what + ", got an empty one" : "";
+      },
+      metavar);
+}
+
+CLI::Validator parsed_by(std::function<void(const std::string&)> parse,
+                         const std::string& metavar) {
+  return CLI::Validator(
+      [parse = std::move(parse)](std::string& text) -> std::string {
+        try {
+          parse(text);
+          return "";
+        } catch (const Error& e) {
+          // CLI11 puts the option's name first: "--mesh '2x': ..." would name it twice.
+          const std::string what = e.what();
+          const std::size_t space = what.find(' ');
+          return what.rfind("--", 0) == 0 && space != std::string::npos ? what.substr(space + 1)
+                                                                         : what;
+        }
+      },
+      metavar);
 }
 
 CLI::Validator backend_spec() {

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -31,6 +32,13 @@ struct OutputOptions {
   std::vector<std::string> output_options{"--out"};  // options naming outputs, not inputs
 };
 void add_output_options(CLI::App* cmd, OutputOptions& options);
+// For a name option (--out, --trace): refuses an empty value, "expected WHAT, got an empty one".
+CLI::Validator non_empty_name(const std::string& what, const std::string& metavar);
+// Runs `parse` on the option's value when the options are read: the rheo::Error it throws
+// (which names the option and what it expects) becomes an option error (exit 2) before any
+// input is read, rather than a run error after.
+CLI::Validator parsed_by(std::function<void(const std::string&)> parse,
+                         const std::string& metavar);
 // For --backend: refuses a name that no backend is registered under (an option error).
 CLI::Validator backend_spec();
 // Every existing file or directory named on the command line, other than by an output

@@ -239,11 +239,7 @@ void register_cosim(CLI::App& app) {
       cmd->add_option("--trace", args->trace,
                       "write an FST waveform to this file and a GTKWave save file beside it "
                       "(FILE.fst -> FILE.gtkw: opens on step 1, words in mm, m/s and N)")
-          ->check(CLI::Validator(
-              [](std::string& text) -> std::string {
-                return text.empty() ? "expected a file name, got an empty one" : "";
-              },
-              "FILE"));
+          ->check(non_empty_name("a file name", "FILE"));
   cmd->add_option("--trace-steps", args->trace_steps,
                   "steps covered by the waveform, from the start (default 100, 0 = all: about "
                   "1.2 MB per step on block5, 20 MB on block15; the estimate counts against "

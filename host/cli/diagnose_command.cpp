@@ -72,7 +72,7 @@ void register_diagnose(CLI::App& app) {
     Diagnosis d;
     try {
       d = diagnose(fit_data, holdout, options);
-    } catch (const rheo::Error& e) {
+    } catch (const ObjectModelError& e) {
       // The explicit object model cannot run every record (a relaxation much faster than a
       // long record needs too many steps). The specimen model is named in every output.
       column_fallback_or_throw(args->specimen, e, options.fit.simulation, "diagnoses");

@@ -42,6 +42,7 @@ void register_fit(CLI::App& app) {
   cmd->add_option("files", args->files, "measurement files")->required()->check(CLI::ExistingFile);
   cmd->add_option("--model", args->model,
                   "three_element or one extension: " + identify::extension_names())
+      ->check(parsed_by([](const std::string& t) { identify::extension_from_name(t); }, "MODEL"))
       ->capture_default_str();
   add_output_options(cmd, args->output);
   cmd->add_flag("--quiet,-q", args->quiet, "no progress display on stderr");
@@ -74,7 +75,7 @@ void register_fit(CLI::App& app) {
     FitResult r;
     try {
       r = fit_model(data, spec, {}, options);
-    } catch (const rheo::Error& e) {
+    } catch (const ObjectModelError& e) {
       column_fallback_or_throw(args->specimen, e, options.simulation, "fits");
       r = fit_model(data, spec, {}, options);
     }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "host/backend/backend.hpp"
+#include "host/cli/cli_options.hpp"
 
 #include "host/identify/measurement.hpp"
 #include "host/identify/specimen.hpp"
@@ -18,14 +19,17 @@ inline void add_import_options(CLI::App* cmd, std::string& geometry, std::string
                                std::string& as) {
   cmd->add_option("--geometry", geometry,
                   "specimen HxWxD in mm (height x width x depth) assumed for imported tables "
-                  "(default 10x10x10); refused for a measurement CSV, which states its own");
+                  "(default 10x10x10); refused for a measurement CSV, which states its own")
+      ->check(parsed_by([](const std::string& t) { identify::parse_geometry(t); }, "HxWxD"));
   cmd->add_option("--strain", strain,
                   "step strain put on a relaxation-modulus table: a fraction (0.01) or a "
                   "percentage (1%); default 1%; refused for step-strain exports (they have a "
-                  "strain column) and measurement CSVs");
+                  "strain column) and measurement CSVs")
+      ->check(parsed_by([](const std::string& t) { identify::parse_strain(t); }, "STRAIN"));
   cmd->add_option("--as", as,
                   "confirm what a table without recognisable column names holds: "
-                  "relaxation_table (column 1 time [s], column 2 relaxation modulus [Pa])");
+                  "relaxation_table (column 1 time [s], column 2 relaxation modulus [Pa])")
+      ->check(CLI::IsMember({"relaxation_table"}));
 }
 
 // Turns the option strings into import options; throws rheo::Error on a malformed value.
@@ -72,6 +76,7 @@ inline void add_specimen_options(CLI::App* cmd, SpecimenArgs& a) {
   cmd->add_option("--mesh", a.mesh,
                   "object model mesh: 2d:auto (3 layers, square cells), 2d:NXxNZ or "
                   "3d:NXxNYxNZ, optionally :truss (docs/identify.md)")
+      ->check(parsed_by([](const std::string& t) { identify::parse_object_mesh(t); }, "MESH"))
       ->capture_default_str();
   cmd->add_flag("--column-fallback", a.column_fallback,
                 "when the object model cannot run these data, use the 1-D column first guess "

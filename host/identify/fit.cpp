@@ -46,10 +46,17 @@ int residual_count(const std::vector<Measurement>& data, const FitOptions& o) {
   return n;
 }
 
+// Why the model last failed to run during a fit, kept for the error when no start succeeds.
+struct RunFailure {
+  std::string what;
+  bool object_model = false;  // an ObjectModelError: the column form may still run
+};
+
 // Fills residuals (prediction - measurement); returns false on numerical trouble so the
-// trust region shrinks instead of accepting garbage.
+// trust region shrinks instead of accepting garbage (and says why in `failure`).
 bool residuals_of(const std::vector<Measurement>& data, const ModelSpec& spec,
-                  const std::vector<double>& values, const FitOptions& o, double* r) {
+                  const std::vector<double>& values, const FitOptions& o, double* r,
+                  RunFailure* failure = nullptr) {
   try {
     int k = 0;
     for (const auto& m : data) {
@@ -63,7 +70,11 @@ bool residuals_of(const std::vector<Measurement>& data, const ModelSpec& spec,
         }
       }
     }
-  } catch (const Error&) {
+  } catch (const Error& e) {
+    if (failure) {
+      failure->what = e.what();
+      failure->object_model = dynamic_cast<const ObjectModelError*>(&e) != nullptr;
+    }
     return false;
   }
   return true;
@@ -73,12 +84,13 @@ struct ColumnResiduals {
   const std::vector<Measurement>* data;
   const ModelSpec* spec;
   const FitOptions* options;
+  RunFailure* failure;
   bool operator()(double const* const* x, double* r) const {
     std::vector<double> values(spec->params.size());
     for (std::size_t i = 0; i < values.size(); ++i) {
       values[i] = to_physical(spec->params[i], x[0][i]);
     }
-    return residuals_of(*data, *spec, values, *options, r);
+    return residuals_of(*data, *spec, values, *options, r, failure);
   }
 };
 
@@ -351,13 +363,14 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
   best.spec = spec;
   double best_cost = std::numeric_limits<double>::infinity();
   std::vector<double> best_x;
+  RunFailure failure;
   for (const auto& start : starts) {
     if (start.size() != k) throw Error("fit: start has the wrong number of parameters");
     std::vector<double> x(k);
     for (std::size_t i = 0; i < k; ++i) x[i] = clamp_into(spec.params[i], start[i]);
     ceres::Problem problem;
     auto* cost = new ceres::DynamicNumericDiffCostFunction<ColumnResiduals, ceres::FORWARD>(
-        new ColumnResiduals{&data, &spec, &options});
+        new ColumnResiduals{&data, &spec, &options, &failure});
     cost->AddParameterBlock(static_cast<int>(k));
     cost->SetNumResiduals(n_res);
     problem.AddResidualBlock(cost, nullptr, x.data());
@@ -389,7 +402,14 @@ FitResult fit_model(const std::vector<Measurement>& data, const ModelSpec& spec,
       best_x = x;
     }
   }
-  if (best_x.empty()) throw Error("fit: no start of model " + spec.name() + " converged");
+  if (best_x.empty()) {
+    // Every start failed: say why the model would not run, in the model's own words.
+    const std::string what = "fit: no start of model " + spec.name() + " converged" +
+                             (failure.what.empty() ? std::string()
+                                                   : "; the model failed to run: " + failure.what);
+    if (failure.object_model) throw ObjectModelError(what);
+    throw Error(what);
+  }
 
   best.values.resize(k);
   for (std::size_t i = 0; i < k; ++i) best.values[i] = to_physical(spec.params[i], best_x[i]);

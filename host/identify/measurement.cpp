@@ -39,6 +39,14 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
+// A piece of the user's file in a message: in full when short, else its start and its
+// length (a 5 MB cell is not echoed back).
+std::string excerpt(const std::string& text) {
+  constexpr std::size_t kShown = 60;
+  if (text.size() <= kShown + 20) return text;
+  return text.substr(0, kShown) + "... (" + std::to_string(text.size()) + " characters)";
+}
+
 // A number in messages, as short as %g writes it.
 std::string fmt_g(double v) {
   char text[32];
@@ -56,19 +64,19 @@ double parse_number(const std::string& cell, const std::string& path, std::size_
   // strtod also reads hexadecimal ("0x1p3"): no instrument writes that, so a cell in it is
   // a corrupted or foreign file, not a number.
   if (t.find_first_of("xX") != std::string::npos) {
-    throw Error(where(path, line) + ": field '" + field + "' is '" + t +
+    throw Error(where(path, line) + ": field '" + field + "' is '" + excerpt(t) +
                 "', expected a decimal number (hexadecimal is not read)");
   }
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(t.c_str(), &end);
   if (end != t.c_str() + t.size() || errno == ERANGE) {
-    throw Error(where(path, line) + ": field '" + field + "' is '" + t +
+    throw Error(where(path, line) + ": field '" + field + "' is '" + excerpt(t) +
                 "', expected a number" +
                 (errno == ERANGE ? " within double precision's range" : ""));
   }
   if (!std::isfinite(v)) {
-    throw Error(where(path, line) + ": field '" + field + "' is '" + t +
+    throw Error(where(path, line) + ": field '" + field + "' is '" + excerpt(t) +
                 "', expected a finite number");
   }
   return v;
@@ -150,6 +158,17 @@ void check_series(const Measurement& m, const std::vector<std::size_t>& lines) {
       }
     }
   }
+  // The plate compresses the specimen from its top: at the specimen's height or beyond it
+  // would have gone through it (the fits then fail in every start, for no stated reason).
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    if (!(m.plate_mm[i] < m.geometry.height_mm)) {
+      throw Error(where(m.source, lines[i]) + ": field 'plate_mm' is " + fmt_g(m.plate_mm[i]) +
+                  " mm (a compression of " + fmt_g(m.plate_mm[i] / m.geometry.height_mm) +
+                  " of the specimen height " + fmt_g(m.geometry.height_mm) +
+                  " mm), expected less than the height: the plate cannot pass through the "
+                  "specimen");
+    }
+  }
   for (std::size_t i = 1; i < m.size(); ++i) {
     if (!(m.time_s[i] > m.time_s[i - 1])) {
       throw Error(where(m.source, lines[i]) + ": field 'time_s' is " + std::to_string(m.time_s[i]) +
@@ -168,7 +187,7 @@ double geometry_value(const Measurement& m, const std::string& key, double fallb
   if (it == m.meta.end()) return fallback;
   const double v = parse_number(it->second, m.source, line, key);
   if (!(v >= kMinSpecimenMm && v <= kMaxSpecimenMm)) {
-    throw Error(where(m.source, line) + ": field '" + key + "' is " + it->second +
+    throw Error(where(m.source, line) + ": field '" + excerpt(key) + "' is " + excerpt(it->second) +
                 ", expected a specimen length in mm from " + fmt_g(kMinSpecimenMm) + " to " +
                 fmt_g(kMaxSpecimenMm));
   }
@@ -218,18 +237,18 @@ Measurement read_measurement_csv(std::istream& in, const std::string& path) {
       const std::string key = trim(s.substr(1, colon - 1));
       const std::string value = trim(s.substr(colon + 1));
       if (line == 1 && key != "rheo-measurement") {
-        throw Error(where(path, line) + ": first line is '" + s +
+        throw Error(where(path, line) + ": first line is '" + excerpt(s) +
                     "', expected '# rheo-measurement: 1'");
       }
       if (key == "rheo-measurement") {
         if (value != "1") {
-          throw Error(where(path, line) + ": field 'rheo-measurement' is '" + value +
+          throw Error(where(path, line) + ": field 'rheo-measurement' is '" + excerpt(value) +
                       "', expected version 1");
         }
         version_seen = true;
       }
       if (const auto seen = meta_line.find(key); seen != meta_line.end()) {
-        throw Error(where(path, line) + ": field '" + key + "' is given again (first on line " +
+        throw Error(where(path, line) + ": field '" + excerpt(key) + "' is given again (first on line " +
                     std::to_string(seen->second) + "); expected each metadata key once");
       }
       m.meta[key] = value;
@@ -243,7 +262,7 @@ Measurement read_measurement_csv(std::istream& in, const std::string& path) {
       const auto cols = split(s, ',');
       const std::vector<std::string> expected{"time_s", "plate_mm", "force_N", "surface_mm"};
       if (cols != expected) {
-        throw Error(where(path, line) + ": column header is '" + s +
+        throw Error(where(path, line) + ": column header is '" + excerpt(s) +
                     "', expected 'time_s,plate_mm,force_N,surface_mm'");
       }
       header_seen = true;
@@ -529,8 +548,10 @@ std::pair<std::string, std::string> name_and_unit(const std::string& cell) {
 }
 
 std::string describe_column(const Column& c) {
-  std::string s = "\"" + c.name + "\"";
-  s += c.unit.empty() ? " (no unit)" : " [" + c.unit + "]";
+  std::string s = "\"";
+  s += excerpt(c.name);
+  s += "\"";
+  s += c.unit.empty() ? " (no unit)" : " [" + excerpt(c.unit) + "]";
   s += c.q == Quantity::kOther ? " = not recognised" : " = " + quantity_name(c.q);
   if (c.named_by_unit) s += " (by its unit)";
   return s;
@@ -595,8 +616,8 @@ Column make_column(const std::string& cell, const std::string& unit_cell, const 
   const auto info = lookup_unit(unit);
   if (!info) {
     if (col.q == Quantity::kOther) return col;  // torque, temperature, ...: not used
-    throw Error(where(path, line) + ": column '" + name + "' is read as " + quantity_name(col.q) +
-                " but its unit [" + unit + "] is not understood, expected one of " +
+    throw Error(where(path, line) + ": column '" + excerpt(name) + "' is read as " + quantity_name(col.q) +
+                " but its unit [" + excerpt(unit) + "] is not understood, expected one of " +
                 rule_of(col.q)->unit_examples);
   }
   if (col.q == Quantity::kOther) {
@@ -605,8 +626,8 @@ Column make_column(const std::string& cell, const std::string& unit_cell, const 
   } else {
     const auto& allowed = rule_of(col.q)->units;
     if (std::find(allowed.begin(), allowed.end(), info->cls) == allowed.end()) {
-      throw Error(where(path, line) + ": column '" + name + "' is named like " +
-                  quantity_name(col.q) + " but its unit [" + unit + "] is " +
+      throw Error(where(path, line) + ": column '" + excerpt(name) + "' is named like " +
+                  quantity_name(col.q) + " but its unit [" + excerpt(unit) + "] is " +
                   unit_class_name(info->cls) + ", expected one of " +
                   rule_of(col.q)->unit_examples);
     }
@@ -783,7 +804,7 @@ double value_at(const Table& t, std::size_t r, int c) {
   const Column& col = t.columns[c];
   const auto& cells = t.rows[r];
   if (c >= static_cast<int>(cells.size())) {
-    throw Error(where(t.path, t.row_lines[r]) + ": field '" + col.name +
+    throw Error(where(t.path, t.row_lines[r]) + ": field '" + excerpt(col.name) +
                 "' missing, expected a number");
   }
   return parse_number(cells[c], t.path, t.row_lines[r], col.name) * col.to_si;
@@ -879,7 +900,7 @@ Measurement from_relaxation_table(const Table& t, const ImportOptions& o,
   for (std::size_t r = 0; r < t.rows.size(); ++r) {
     const double g = value_at(t, r, cg);
     if (!(g > 0.0)) {
-      throw Error(where(t.path, t.row_lines[r]) + ": field '" + modulus->name + "' is " +
+      throw Error(where(t.path, t.row_lines[r]) + ": field '" + excerpt(modulus->name) + "' is " +
                   fmt_g(g) + " Pa, expected a positive relaxation modulus");
     }
     m.time_s.push_back(value_at(t, r, ct));
@@ -905,7 +926,7 @@ Measurement from_step_strain_export(const Table& t, const ImportOptions& o,
                 strain->name + "')");
   }
   if (strain->unit.empty()) {
-    throw Error(where(t.path, t.header_line) + ": column '" + strain->name +
+    throw Error(where(t.path, t.header_line) + ": column '" + excerpt(strain->name) +
                 "' has no unit, so percent cannot be told from a fraction; add a units line "
                 "or write the unit into the name (e.g. 'Shear Strain [%]')");
   }
@@ -928,7 +949,7 @@ Measurement from_step_strain_export(const Table& t, const ImportOptions& o,
   double largest = 0.0;
   for (std::size_t r = 0; r < t.rows.size(); ++r) largest = std::max(largest, value_at(t, r, ce));
   if (!(largest >= kMinStepStrain)) {
-    throw Error(t.path + ": column '" + strain->name + "' never exceeds " + fmt_g(largest) +
+    throw Error(t.path + ": column '" + excerpt(strain->name) + "' never exceeds " + fmt_g(largest) +
                 ", expected a step strain of at least " + fmt_g(kMinStepStrain) +
                 " (compression positive)");
   }
@@ -1034,7 +1055,7 @@ double default_import_strain() { return 0.01; }
 
 Geometry parse_geometry(const std::string& text) {
   const std::string usage =
-      "--geometry '" + text + "': expected HxWxD in mm (height x width x depth), e.g. 10x20x20";
+      "--geometry '" + excerpt(text) + "': expected HxWxD in mm (height x width x depth), e.g. 10x20x20";
   std::string s = text;
   std::replace(s.begin(), s.end(), 'X', 'x');
   const auto parts = split(s, 'x');
@@ -1061,15 +1082,15 @@ double parse_strain(const std::string& text) {
   const double v = std::strtod(s.c_str(), &end);
   if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v) ||
       s.find_first_of("xX") != std::string::npos) {
-    throw Error("--strain '" + text + "': expected a fraction (0.01) or a percentage (1%)");
+    throw Error("--strain '" + excerpt(text) + "': expected a fraction (0.01) or a percentage (1%)");
   }
   const double f = percent ? v * 0.01 : v;
   if (f > 0.0 && f < kMinStepStrain) {
-    throw Error("--strain '" + text + "': expected a step strain of at least " +
+    throw Error("--strain '" + excerpt(text) + "': expected a step strain of at least " +
                 fmt_g(kMinStepStrain) + "; a smaller one turns every force into rounding noise");
   }
   if (!(f > 0.0 && f < 1.0)) {
-    throw Error("--strain '" + text + "': expected a step strain between 0 and 1 (0 and 100 %)" +
+    throw Error("--strain '" + excerpt(text) + "': expected a step strain between 0 and 1 (0 and 100 %)" +
                 (!percent && v >= 1.0
                      ? "; a bare number is a fraction, write '" + s + "%' for a percentage"
                      : std::string()));

@@ -328,7 +328,13 @@ Prediction simulate(const Measurement& protocol, const SpecimenParams& p,
           options.steps_per_time_constant > 0.0)) {
       throw Error("specimen model: max_dt and steps_per_time_constant must be finite and > 0");
     }
-    return simulate_object(protocol, p, options);
+    try {
+      return simulate_object(protocol, p, options);
+    } catch (const ObjectModelError&) {
+      throw;
+    } catch (const Error& e) {
+      throw ObjectModelError(e.what());
+    }
   }
   // A NaN here would reach an int conversion of the step count below (undefined behaviour):
   // options are checked where they enter, whoever set them.

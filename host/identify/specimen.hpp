@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "host/identify/measurement.hpp"
+#include "sim/error.hpp"
 #include "sim/fast/fast_simulator.hpp"
 #include "sim/model.hpp"
 
@@ -106,10 +107,20 @@ struct Prediction {
 // What the fits run, in words (report, fit.json): the object mesh or the column.
 std::string specimen_description(const Geometry& g, const SimulationOptions& o);
 
+// The object model could not run a record with some parameters (a relaxation too fast for
+// the record's sampling, too many steps, a collapse): a failure of the model form, for which
+// the 1-D column is a way out, unlike a failure of the data (too few samples), which every
+// form shares.
+class ObjectModelError : public Error {
+ public:
+  using Error::Error;
+};
+
 // Runs the specimen model (options.form) under the measurement's plate history (linear between samples; the
 // plate starts at 0 at t = 0 and moves linearly to the first sample when t[0] > 0) and
 // returns the predicted readings at the sample times. Throws rheo::Error on non-finite
-// state (numerical trouble) or non-positive parameters.
+// state (numerical trouble) or non-positive parameters, ObjectModelError where the object
+// model fails.
 Prediction simulate(const Measurement& protocol, const SpecimenParams& params,
                     const SimulationOptions& options = {});
 

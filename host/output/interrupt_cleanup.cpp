@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -32,6 +33,27 @@ extern "C" void on_signal(int sig) {
   errno = saved;
 }
 
+// Removes `path`, which the run's other threads may still be writing into (the signal stops
+// only this thread's wait): a file they create during the removal would make the final rmdir
+// fail and leave the staging behind. The directory is first renamed away, so their later
+// writes by path fail, then removed; and whatever they still manage to create at the old
+// path (a create_directories in flight) is removed again, for at most about 0.2 s.
+void remove_while_written(const std::string& path) {
+  namespace fs = std::filesystem;
+  const std::string doomed = path + ".removing";
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    std::error_code ec;
+    if (fs::exists(path, ec)) {
+      fs::rename(path, doomed, ec);
+      if (ec) fs::remove_all(path, ec);
+    }
+    fs::remove_all(doomed, ec);
+    // A write in flight lands within this pause or never.
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (!fs::exists(path, ec) && !fs::exists(doomed, ec)) break;
+  }
+}
+
 [[noreturn]] void watch() {
   unsigned char byte = 0;
   for (;;) {
@@ -49,8 +71,7 @@ extern "C" void on_signal(int sig) {
   std::lock_guard<std::mutex> lock(interrupt_cleanup_mutex());
   std::string removed;
   for (const auto& [path, what] : registry()) {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
+    remove_while_written(path);
     removed += (removed.empty() ? "" : ", ") + what;
   }
   std::cerr << "rheo: interrupted by SIG" << (sigabbrev_np(sig) ? sigabbrev_np(sig) : "?")

@@ -202,6 +202,14 @@ TEST_F(NothingLost, OptionErrorsExitTwoWithThePrefixAndTheRangeInWords) {
       {"cosim --scenario block5 --compare-every -1", "from 0 to 1000000000"},
       {"simulate --scenario block5 --max-output-gb -1", "a size in GB"},
       {"simulate --scenario block5 --no-such-option", "--no-such-option"},
+      // The fit and diagnosis options are checked when the options are read, before any
+      // input file is (they exited 1 after reading the data).
+      {"fit " + data() + " --model bogus", "expected three_element or one of"},
+      {"fit " + data() + " --mesh 2d:0x0", "2 to 12 particles per axis"},
+      {"diagnose " + data() + " --mesh 3d:auto", "expected 2d:auto"},
+      {"fit " + data() + " --strain 0", "a step strain between 0 and 1"},
+      {"diagnose " + data() + " --geometry 10x10", "expected HxWxD in mm"},
+      {"fit " + data() + " --as table", "relaxation_table"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
@@ -258,6 +266,8 @@ TEST_F(NothingLost, DegenerateFieldsAreRefusedByName) {
       {"hex.csv", head + rows.str() + "20.2,0x1p0,5,\n", "hexadecimal"},
       {"twice.csv", head + "# specimen_height_mm: 10\n# specimen_height_mm: 12\n" + rows.str(), "given again"},
       {"far.csv", head + "# specimen_height_mm: 1e9\n" + rows.str(), "specimen length in mm"},
+      {"through.csv", head + "# specimen_height_mm: 10\n" + rows.str() + "20.2,10.5,5,\n",
+       "the plate cannot pass through the specimen"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
@@ -274,11 +284,12 @@ TEST_F(NothingLost, DegenerateFieldsAreRefusedByName) {
   RunResult r = run_rheo("fit " + relax + " --model-form column -q --out " + path("o"));
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("positive relaxation modulus"), std::string::npos) << r.output;
+  // Malformed import options are option errors (exit 2), found before any input is read.
   r = run_rheo("fit " + relax + " --strain 1e-320 --model-form column -q --out " + path("o"));
-  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("--strain"), std::string::npos) << r.output;
   r = run_rheo("fit " + data() + " --geometry 1e9x10x10 --model-form column -q --out " + path("o"));
-  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("--geometry"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(path("o")));
 }
@@ -326,6 +337,15 @@ TEST_F(NothingLost, TheObjectModelFailingIsAnErrorUnlessTheFallbackIsAskedFor) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("warning: the object model could not run these data"), std::string::npos)
       << r.output;
+  // Too few samples fail every model form alike: no way out through the column is offered.
+  std::ostringstream few;
+  few << "# rheo-measurement: 1\ntime_s,plate_mm,force_N,surface_mm\n";
+  for (int i = 1; i <= 6; ++i) few << 0.5 * i << "," << 0.1 * i << "," << 0.3 * i << ",\n";
+  r = run_rheo("fit " + write("few.csv", few.str()) + " -q --out " + path("o2"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("samples for the 3 parameters"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("--model-form column"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("--column-fallback"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -195,8 +195,11 @@ INSTANTIATE_TEST_SUITE_P(
                     BadValue{"/material/density", -1200.0, "positive"},
                     BadValue{"/material/c1", -1.0, "non-negative"},
                     BadValue{"/material/c2", "a lot", "number"},
-                    BadValue{"/mesh/sx_m", 0.0, "positive"},
-                    BadValue{"/mesh/sz_m", -0.04, "positive"},
+                    BadValue{"/mesh/sx_m", 0.0, "a number from 1e-06 to 10 [m]"},
+                    BadValue{"/mesh/sz_m", -0.04, "a number from 1e-06 to 10 [m]"},
+                    // Rest lengths of exactly 0 before: "edge 0: L = 0".
+                    BadValue{"/mesh/sx_m", 1e-300, "a number from 1e-06 to 10 [m]"},
+                    BadValue{"/mesh/sy_m", 1e5, "a number from 1e-06 to 10 [m]"},
                     BadValue{"/mesh/nx", 1, "integer from 2"}, BadValue{"/mesh/nz", 2.5, "integer"},
                     BadValue{"/mesh/dim", 4, "from 2 to 3"},
                     BadValue{"/mesh/structure", "cubic", "\"truss\" or \"lattice\""},
