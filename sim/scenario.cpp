@@ -20,6 +20,7 @@
 #include "sim/error.hpp"
 #include "sim/input_pipe.hpp"
 #include "sim/scenarios/builtin.hpp"
+#include "sim/stable_masses.hpp"
 
 namespace rheo {
 namespace {
@@ -209,12 +210,16 @@ void read_mesh(const Field& mesh, BlockSpec& block) {
   if (mesh.has("plate_top")) block.plate_top = mesh["plate_top"].boolean();
 }
 
-void read_material(const Field& material, BlockSpec& block) {
+// density_optional: the main object's density may be left out (stable-step masses, checked
+// with the integrator).
+void read_material(const Field& material, BlockSpec& block, bool density_optional = false) {
   material.expect_object(
       {"density", "k1", "c1", "c2", "a_min", "a_max", "nonlinear_damper", "hardening", "k2", "c3",
        "spectrum", "volume_kv"});
   EdgeMaterial& m = block.material;
-  block.density = material["density"].positive(" [kg/m^3]");
+  if (!density_optional || material.has("density")) {
+    block.density = material["density"].positive(" [kg/m^3]");
+  }
   m.k1 = material["k1"].non_negative(" [Pa]");
   m.c1 = material["c1"].non_negative(" [Pa s]");
   const Field c2 = material["c2"];
@@ -284,11 +289,20 @@ void read_topology(const Field& topology, BlockSpec& block) {
 }
 
 void read_integrator(const Field& integrator, Scenario& s) {
-  integrator.expect_object({"method", "dt_s", "mass_scale", "check_stability"});
+  integrator.expect_object({"method", "dt_s", "mass_scale", "masses", "check_stability"});
   const std::string method = integrator["method"].one_of({"semi_implicit_euler", "rk4"});
   s.options.integrator = method == "rk4" ? Integrator::kRK4 : Integrator::kSemiImplicitEuler;
   s.options.dt = integrator["dt_s"].positive(" [s]");
-  if (integrator.has("mass_scale")) s.block.mass_scale = integrator["mass_scale"].positive("");
+  if (integrator.has("masses")) {
+    s.stable_step_masses = integrator["masses"].one_of({"density", "stable_step"}) == "stable_step";
+  }
+  if (integrator.has("mass_scale")) {
+    if (s.stable_step_masses) {
+      integrator["mass_scale"].fail("no mass_scale with \"masses\": \"stable_step\" (the "
+                                    "masses come from the step)");
+    }
+    s.block.mass_scale = integrator["mass_scale"].positive("");
+  }
   if (integrator.has("check_stability")) {
     s.options.check_stability = integrator["check_stability"].boolean();
   }
@@ -612,9 +626,25 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
   s.name = top["name"].string();
   if (top.has("description")) s.description = top["description"].string();
   read_mesh(top["mesh"], s.block);
-  read_material(top["material"], s.block);
+  read_material(top["material"], s.block, true);
   if (top.has("topology_maintenance")) read_topology(top["topology_maintenance"], s.block);
   read_integrator(top["integrator"], s);
+  // Masses from the density (physical, optionally scaled) or from the step (a numerical
+  // device for a quasi-static specimen, sim/stable_masses.hpp): one or the other.
+  if (s.stable_step_masses) {
+    if (top["material"].has("density")) {
+      top["material"]["density"].fail(
+          "no density with \"masses\": \"stable_step\" (the masses come from the step, "
+          "not from it)");
+    }
+    if (top.has("objects")) {
+      top["objects"].fail("no further objects with \"masses\": \"stable_step\" (a single "
+                          "specimen under the plate; contact among objects needs their "
+                          "physical masses)");
+    }
+  } else if (!top["material"].has("density")) {
+    top["material"]["density"];  // reports it missing
+  }
   read_protocol(top["protocol"], s);
   if (top.has("floor")) s.floor = top["floor"].boolean();
   if (top.has("object_name")) s.object_name = top["object_name"].string();
@@ -694,6 +724,7 @@ Model Scenario::build_model() const {
   // the weight of the object must stay physical: gravity is divided by the same factor,
   // so that m * g, and with it the load on the plate, is what the real object has.
   model.gravity /= block.mass_scale;
+  if (stable_step_masses) assign_stable_step_masses(model, options.dt);
   model.plate_contact = plate_contact;
   model.plate_grip = plate_grip;
   validate(model);

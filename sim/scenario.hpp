@@ -40,6 +40,9 @@ struct Scenario {
   bool plate = true;                 // false: /protocol/type "none" (no plate in the scene)
   bool floor = true;                 // the unilateral floor at z = 0 (/floor)
   SimOptions options;      // dt, integrator
+  // /integrator/masses "stable_step": masses from the step, not the density, and no gravity
+  // (sim/stable_masses.hpp; the fits' object model uses the same rule).
+  bool stable_step_masses = false;
   PlateProtocol protocol;  // plate displacement history
   PlateContact plate_contact = PlateContact::kPenetration;  // /protocol/plate_contact
   bool plate_grip = false;                                  // /protocol/plate_grip

@@ -11,13 +11,13 @@
 #include "sim/mesh.hpp"
 #include "sim/relaxation_spectrum.hpp"
 #include "sim/simulator.hpp"
+#include "sim/stable_masses.hpp"
 
 namespace rheo::identify {
 namespace {
 
-// Share of the explicit stability bound the chosen masses use (the bound itself carries a
-// factor 0.9; strain hardening stiffens the edges beyond what the bound sees).
-constexpr double kMassSafety = 0.6;
+// Share of the explicit stability bound the chosen masses use (sim/stable_masses.hpp).
+constexpr double kMassSafety = kStableMassSafety;
 // Largest refinement of the sample-based step for short relaxation times (see
 // step_plan): a relaxation time needs at least steps_per_time_constant steps.
 constexpr double kMaxHalvings = 8.0;
@@ -73,26 +73,9 @@ Model object_model(const Geometry& g, const SpecimenParams& p, const ObjectMesh&
   model.gravity = Vec3::Zero();
   model.plate_contact = PlateContact::kHoldWhilePushing;
 
-  // Masses for a stable step dt (see object_specimen.hpp): per particle the stiffness and
-  // the largest instantaneous damping of its edges, as rheo::max_stable_dt sums them.
-  const int n = model.num_particles();
-  std::vector<double> stiffness(n, 0.0), damping(n, 0.0);
-  for (const Edge& e : model.edges) {
-    const EdgeMaterial& m = model.materials[e.material];
-    double k = m.k1 + (m.has_maxwell_arm() ? m.k2 : 0.0);
-    for (int j = 0; j < m.spectrum_arms; ++j) k += m.spectrum[j].k;
-    const double c = m.c1 * m.c2 / (m.c1 + m.c2);
-    for (int i : {e.s, e.e}) {
-      stiffness[i] += k;
-      damping[i] += c;
-    }
-  }
-  // Stable when dt^2 a + 2 dt b < 4 with a = 2K/m, b = 2C/m (simulator.hpp).
-  for (int i = 0; i < n; ++i) {
-    const double m = (0.5 * stiffness[i] * dt * dt + damping[i] * dt) / kMassSafety;
-    model.mass[i] = m > 0.0 ? m : 1.0;
-  }
-  model.mass_scale = 1.0;
+  // Masses for a stable step dt (see object_specimen.hpp): the rule a scenario's
+  // "masses": "stable_step" uses too (sim/stable_masses.hpp).
+  assign_stable_step_masses(model, dt, kMassSafety);
   return model;
 }
 

@@ -16,6 +16,7 @@
 #include "sim/scenario.hpp"
 #include "sim/scenarios/builtin.hpp"
 #include "sim/simulator.hpp"
+#include "sim/stable_masses.hpp"
 
 namespace rheo {
 namespace {
@@ -272,6 +273,42 @@ TEST(ScenarioFeatures, TopologyVolumeAndSpectrumKeysReachTheModel) {
     max_diff = std::max(max_diff, std::fabs(fw - fo));
   }
   EXPECT_GT(max_diff, 0.0);
+}
+
+// "masses": "stable_step" gives every particle the fits' object-model mass for the step
+// (sim/stable_masses.hpp) and no gravity; the density and a mass scale are then refused.
+TEST(ScenarioFeatures, StableStepMassesAreTheRuleTheFitsUseAndExcludeDensityAndMassScale) {
+  json j = block5_json();
+  j["integrator"].erase("mass_scale");
+  j["integrator"]["masses"] = "stable_step";
+  j["material"].erase("density");
+  ScenarioFile f(j.dump());
+  const Scenario s = load_scenario(f.path());
+  const Model m = s.build_model();
+  Model expected = m;
+  assign_stable_step_masses(expected, s.options.dt);
+  ASSERT_EQ(m.mass.size(), expected.mass.size());
+  for (std::size_t i = 0; i < m.mass.size(); ++i) EXPECT_EQ(m.mass[i], expected.mass[i]) << i;
+  EXPECT_EQ(m.gravity, Vec3::Zero());
+  EXPECT_EQ(m.mass_scale, 1.0);
+  // The stable-step masses pass the scenario's own stability check by construction.
+  EXPECT_LT(s.options.dt, max_stable_dt(m, s.options.integrator));
+  Simulator sim(m, s.options);
+  for (long step = 1; step <= 2000; ++step) ASSERT_TRUE(std::isfinite(sim.step(s.plate_z(m, step)).plate_force_N));
+
+  json with_density = j;
+  with_density["material"]["density"] = 1800.0;
+  EXPECT_NE(load_error(with_density).find("/material/density: expected no density"), std::string::npos)
+      << load_error(with_density);
+  json with_scale = j;
+  with_scale["integrator"]["mass_scale"] = 100.0;
+  EXPECT_NE(load_error(with_scale).find("/integrator/mass_scale: expected no mass_scale"),
+            std::string::npos)
+      << load_error(with_scale);
+  json without_density = block5_json();
+  without_density["material"].erase("density");
+  EXPECT_NE(load_error(without_density).find("/material/density: missing"), std::string::npos)
+      << load_error(without_density);
 }
 
 INSTANTIATE_TEST_SUITE_P(
