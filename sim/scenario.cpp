@@ -108,6 +108,21 @@ class Field {
     if (!value_.is_string()) fail("a string");
     return value_.get<std::string>();
   }
+  // A name that goes into file headers, CSV comments and XML (force.csv, mesh.pvd): printable
+  // text of at most 200 bytes. A newline in it injected metadata lines and rows into
+  // force.csv.
+  std::string name() const {
+    const std::string s = string();
+    const bool control = std::any_of(s.begin(), s.end(), [](char c) {
+      const auto u = static_cast<unsigned char>(c);
+      return u < 0x20 || u == 0x7f;
+    });
+    if (s.empty() || s.size() > 200 || control) {
+      fail("a name of 1 to 200 printable characters (no line breaks, tabs or other control "
+           "characters)");
+    }
+    return s;
+  }
   std::string one_of(std::initializer_list<const char*> choices) const {
     std::string list;
     for (const char* c : choices) list += std::string(list.empty() ? "" : " or ") + '"' + c + '"';
@@ -410,7 +425,7 @@ void read_objects(const Field& objects, Scenario& s) {
     const Field o = objects.at(i);
     o.expect_object({"name", "mesh", "material", "offset_m", "velocity_m_s"});
     ObjectSpec spec;
-    spec.name = o["name"].string();
+    spec.name = o["name"].name();
     if (spec.name == s.object_name) {
       o["name"].fail("a name no other object has (\"" + s.object_name + "\" is the main object)");
     }
@@ -454,7 +469,7 @@ void read_tools(const Field& tools, Scenario& s) {
     t.expect_object({"name", "shape", "axis", "up", "radius_m", "length_m", "width_m",
                      "thickness_m", "display_size_m", "contact", "path"});
     Tool tool;
-    tool.name = t["name"].string();
+    tool.name = t["name"].name();
     for (const Tool& other : s.tools) {
       if (other.name == tool.name) t["name"].fail("a name no other tool has");
     }
@@ -623,7 +638,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
                      "integrator", "protocol", "output", "duration_s", "object_name",
                      "velocity_m_s", "objects", "contact", "tools", "floor"});
   Scenario s;
-  s.name = top["name"].string();
+  s.name = top["name"].name();
   if (top.has("description")) s.description = top["description"].string();
   read_mesh(top["mesh"], s.block);
   read_material(top["material"], s.block, true);
@@ -647,14 +662,22 @@ Scenario parse_scenario(const std::string& text, const std::string& file) {
   }
   read_protocol(top["protocol"], s);
   if (top.has("floor")) s.floor = top["floor"].boolean();
-  if (top.has("object_name")) s.object_name = top["object_name"].string();
+  if (top.has("object_name")) s.object_name = top["object_name"].name();
   if (top.has("velocity_m_s")) s.velocity = top["velocity_m_s"].vec3("initial velocity [m/s]");
   if (top.has("objects")) read_objects(top["objects"], s);
   for (ObjectSpec& o : s.objects) o.block.mass_scale = s.block.mass_scale;
   if (top.has("contact")) read_contact(top["contact"], s);
   if (top.has("tools")) read_tools(top["tools"], s);
   if (top.has("output")) read_output(top["output"], s);
-  if (top.has("duration_s")) s.duration_s = top["duration_s"].positive(" [s]");
+  if (top.has("duration_s")) {
+    s.duration_s = top["duration_s"].positive(" [s]");
+    // As --duration: less than one step ran one step silently.
+    if (s.duration_s < s.options.dt * (1.0 - 1e-9)) {
+      std::ostringstream what;
+      what << "a duration of at least one step of /integrator/dt_s (" << s.options.dt << " s)";
+      top["duration_s"].fail(what.str());
+    }
+  }
   if (!s.plate && !top.has("duration_s")) {
     top["duration_s"];  // no plate protocol to take the run length from: reports it missing
   }

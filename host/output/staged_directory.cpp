@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -49,8 +50,36 @@ std::string make_sibling(const fs::path& target, const std::string& tag) {
   return std::string(buf.data());
 }
 
-// Removes staging directories of `target` whose run no longer exists, and says so.
-void remove_leftovers(const fs::path& target) {
+// Every staging directory holds this file while a run owns it (taken out just before the
+// results move into place): a leftover is removed only when it carries it (or is empty), so
+// a directory of the user's that merely has a staging-like name is never touched.
+constexpr const char* kStagingMarker = ".rheo-staging";
+
+void mark_as_staging(const fs::path& dir) {
+  std::FILE* f = std::fopen((dir / kStagingMarker).c_str(), "w");
+  if (f) std::fclose(f);
+}
+
+// True when `p` is `dir` or lies below it, compared both as written and as the file system
+// resolves them (symbolic links followed, then ".."), so that neither a link to an input, an
+// --out that is a link, nor a ".." after a link hides an input from the check.
+bool within(const fs::path& p, const fs::path& dir) {
+  const auto below = [](const fs::path& a, const fs::path& b) {
+    const fs::path rel = a.lexically_relative(b);
+    return !rel.empty() && *rel.begin() != "..";
+  };
+  std::error_code e1, e2;
+  const fs::path rp = fs::weakly_canonical(p, e1);
+  const fs::path rd = fs::weakly_canonical(dir, e2);
+  const fs::path lp = p.lexically_normal(), ld = dir.lexically_normal();
+  return below(lp, ld) || (!e1 && !e2 && below(rp, rd)) || (!e1 && below(rp, ld)) ||
+         (!e2 && below(lp, rd));
+}
+
+// Removes staging directories of `target` whose run no longer exists, and says so: only
+// real directories (not links) that carry the staging marker or are empty, and never one
+// that holds an input of the command.
+void remove_leftovers(const fs::path& target, const std::vector<std::string>& inputs) {
   std::error_code ec;
   for (const char* tag : {"partial", "old"}) {
     const std::string prefix = sibling_prefix(target, tag);
@@ -67,6 +96,17 @@ void remove_leftovers(const fs::path& target) {
         continue;
       }
       if (pid <= 0 || kill(pid, 0) == 0 || errno != ESRCH) continue;  // its run still exists
+      std::error_code st;
+      if (!fs::is_directory(fs::symlink_status(entry.path(), st))) continue;
+      if (!fs::is_regular_file(entry.path() / kStagingMarker, st) &&
+          !is_empty_directory(entry.path())) {
+        continue;  // not made by a run of rheo: the user's own
+      }
+      bool holds_input = false;
+      for (const std::string& input : inputs) {
+        holds_input = holds_input || within(fs::absolute(fs::path(input)), entry.path());
+      }
+      if (holds_input) continue;
       std::error_code rm;
       fs::remove_all(entry.path(), rm);
       if (!rm) {
@@ -77,26 +117,26 @@ void remove_leftovers(const fs::path& target) {
   }
 }
 
-// `p` absolute and lexically normal, without a trailing separator.
+// `p` absolute, without a trailing separator, and naming what the kernel would open: its
+// directories resolved as the file system does (a ".." after a symbolic link goes up from the
+// link's target, not from the link), its last component kept as written (a link given as
+// --out stays that link) unless it is "." or "..".
 fs::path absolute_path(const std::string& p) {
-  fs::path a = fs::absolute(fs::path(p)).lexically_normal();
-  if (!a.has_filename() && a.has_parent_path() && a != a.root_path()) a = a.parent_path();
-  return a;
-}
-
-// True when `p` is `dir` or lies below it, compared both as written and as the file system
-// resolves them (symbolic links followed), so that neither a link to an input nor an --out
-// that is a link hides an input from the check.
-bool within(const fs::path& p, const fs::path& dir) {
-  const auto below = [](const fs::path& a, const fs::path& b) {
-    const fs::path rel = a.lexically_relative(b);
-    return !rel.empty() && *rel.begin() != "..";
-  };
-  std::error_code e1, e2;
-  const fs::path rp = fs::weakly_canonical(p, e1);
-  const fs::path rd = fs::weakly_canonical(dir, e2);
-  return below(p, dir) || (!e1 && !e2 && below(rp, rd)) || (!e1 && below(rp, dir)) ||
-         (!e2 && below(p, rd));
+  const fs::path a = fs::absolute(fs::path(p));
+  fs::path last = a.filename();
+  fs::path dir = a.parent_path();
+  std::error_code ec;
+  if (last.empty() || last == "." || last == "..") {
+    fs::path whole = fs::weakly_canonical(a, ec);
+    if (ec) whole = a.lexically_normal();
+    if (!whole.has_filename() && whole.has_parent_path() && whole != whole.root_path()) {
+      whole = whole.parent_path();
+    }
+    return whole;
+  }
+  fs::path resolved = fs::weakly_canonical(dir, ec);
+  if (ec) resolved = dir.lexically_normal();
+  return resolved / last;
 }
 
 // Refuses to replace `target` (a directory, or a file's final path) when that would delete
@@ -104,7 +144,7 @@ bool within(const fs::path& p, const fs::path& dir) {
 void refuse_replacing_inputs(const fs::path& target, const std::vector<std::string>& inputs,
                              const std::string& option) {
   for (const std::string& input : inputs) {
-    if (within(absolute_path(input), target)) {
+    if (within(absolute_path(input), target) || within(fs::absolute(fs::path(input)), target)) {
       throw Error(option + " " + target.string() + ": holds " + input +
                   ", which this command reads; replacing it (--force) would delete the input. "
                   "Choose another " + option + " or move the input out of it");
@@ -143,8 +183,9 @@ StagedDirectory::StagedDirectory(const std::string& target, bool replace,
   }
   fs::create_directories(t.parent_path(), ec);
   if (ec) throw Error(t.parent_path().string() + ": cannot create directory: " + ec.message());
-  remove_leftovers(t);
+  remove_leftovers(t, inputs_);
   staging_ = make_sibling(t, "partial");
+  mark_as_staging(staging_);
   register_interrupt_cleanup(staging_, "staged results for " + target_);
   // mkdtemp makes the directory private (0700); results are ordinary files (0755 dirs).
   fs::permissions(staging_,
@@ -166,7 +207,7 @@ StagedDirectory::~StagedDirectory() {
 }
 
 std::string StagedDirectory::map(const std::string& user_path) const {
-  const fs::path p = fs::absolute(fs::path(user_path)).lexically_normal();
+  const fs::path p = absolute_path(user_path);
   const fs::path rel = p.lexically_relative(target_);
   if (rel.empty() || *rel.begin() == "..") return user_path;
   return (fs::path(staging_) / rel).string();
@@ -187,6 +228,12 @@ std::string StagedDirectory::stage_file(const std::string& user_path,
     std::error_code ec;
     if (fs::exists(a, ec)) {
       if (fs::is_directory(a, ec)) throw Error(p + ": exists and is a directory");
+      // --force replaces an earlier output, never a device, a pipe or a socket (as root,
+      // --trace /dev/null --force would have replaced the system's /dev/null).
+      if (!fs::is_regular_file(a, ec)) {
+        throw Error(p + ": exists and is not a regular file (a device, pipe or socket); " +
+                    "choose a file name");
+      }
       if (!replace_)
         throw Error(p + ": exists; choose another file name or pass --force to replace it");
       refuse_replacing_inputs(a, inputs_, "the output file");
@@ -197,8 +244,9 @@ std::string StagedDirectory::stage_file(const std::string& user_path,
   fs::create_directories(dir, ec);
   if (ec) throw Error(dir.string() + ": cannot create directory: " + ec.message());
   const fs::path first(f.finals.front());
-  remove_leftovers(first);
+  remove_leftovers(first, inputs_);
   f.staging_dir = make_sibling(first, "partial");
+  mark_as_staging(f.staging_dir);
   register_interrupt_cleanup(f.staging_dir, "staged " + f.finals.front());
   files_.push_back(f);
   return (fs::path(f.staging_dir) / first.filename()).string();
@@ -209,6 +257,9 @@ void StagedDirectory::commit() {
   std::lock_guard<std::mutex> lock(interrupt_cleanup_mutex());
   const fs::path target(target_);
   std::error_code ec;
+  // The results go into place without the marker (a failed move leaves it out, so the
+  // directory then stays for the user rather than being taken as a leftover).
+  fs::remove(fs::path(staging_) / kStagingMarker, ec);
   if (fs::exists(target, ec) && !is_empty_directory(target)) {
     if (!replace_) throw Error(target_ + ": appeared during the run and is not empty");
     // Move the old content aside first, so that the target is never half old, half new.
@@ -216,6 +267,7 @@ void StagedDirectory::commit() {
     fs::remove(old, ec);
     fs::rename(target, old, ec);
     if (ec) throw Error(target_ + ": cannot move the old output aside: " + ec.message());
+    mark_as_staging(old);  // being replaced: a leftover of it may go
     fs::rename(staging_, target, ec);
     if (ec) {
       std::error_code undo;

@@ -75,6 +75,33 @@ Array tensor_array(const std::string& name, const std::vector<Mat3>& t) {
   return make_array("Float32", name, 9, out);
 }
 
+// An object's name (the user's text) in an XML attribute: "salt & pepper <dough>" made
+// mesh.pvd malformed.
+std::string xml_attribute(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// Text in an XML comment, which may not hold "--".
+std::string xml_comment(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '-' && !out.empty() && out.back() == '-') out += ' ';
+    out += c;
+  }
+  return out;
+}
+
 void write_declarations(std::ostream& xml, const std::vector<Array>& arrays,
                         std::uint64_t& offset) {
   for (const Array& a : arrays) {
@@ -616,7 +643,7 @@ void VtkSeriesWriter::write_piece(const std::string& relative, const Piece& piec
   const char* byte_order =
       std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
   xml << "<?xml version=\"1.0\"?>\n";
-  for (const std::string& c : piece.comments) xml << "<!-- " << c << " -->\n";
+  for (const std::string& c : piece.comments) xml << "<!-- " << xml_comment(c) << " -->\n";
   xml << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"" << byte_order
       << "\" header_type=\"UInt64\">\n"
       << "  <UnstructuredGrid>\n"
@@ -685,7 +712,8 @@ void VtkSeriesWriter::close() {
       for (std::size_t p = 0; p < parts.size(); ++p) {
         std::snprintf(file, sizeof file, "_%06zu.vtu", f);
         out << "    <DataSet timestep=\"" << time << "\" part=\"" << p << "\" name=\""
-            << parts[p].first << "\" file=\"vtk/" << parts[p].second << file << "\"/>\n";
+            << xml_attribute(parts[p].first) << "\" file=\"vtk/" << xml_attribute(parts[p].second)
+            << file << "\"/>\n";
       }
     }
     out << "  </Collection>\n</VTKFile>\n";

@@ -7,6 +7,7 @@
 // model failing is an error unless the column's first guess is asked for.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -114,6 +115,53 @@ TEST_F(NothingLost, ForceNeverDeletesAFileTheCommandReads) {
   r = run_rheo("simulate --scenario block5 --steps 2 --no-plot -q --out " + path("old") + " --force");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(read(path("old/force.csv")), "old result");
+}
+
+// What a hostile retrial found after the rule above: a file or folder with a staging-like
+// name, a ".." after a symbolic link, and special files as --trace targets.
+TEST_F(NothingLost, StagingNamesLinksAndSpecialFilesNeverCostAnInput) {
+  const std::string block5 = run_rheo("scenarios --show block5").output;
+  // An input whose name looks like a leftover staging directory of --out, and a folder of
+  // the user's with such a name: neither is a leftover of a run (no marker), neither goes.
+  const std::string odd = write("l1/.o1.partial-999999-ABCDEF", block5);
+  const std::string mine = write("l1/.o1.partial-999998-ABCDEF/notes.txt", "mine");
+  RunResult r = run_in(path("l1"), "simulate --scenario ./.o1.partial-999999-ABCDEF --steps 2 "
+                                   "--no-plot -q --out o1");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(read(odd), block5) << "the scenario was deleted";
+  EXPECT_EQ(read(mine), "mine") << "the user's folder was deleted";
+
+  // ".." after a symbolic link: the kernel goes up from the link's target. L/../s.json is
+  // real/s.json, an input inside --out real.
+  const std::string in_real = write("real/s.json", block5);
+  fs::create_directories(path("real/sub"));
+  fs::create_directory_symlink(path("real/sub"), path("L"));
+  r = run_rheo("simulate --scenario " + path("L") + "/../s.json --steps 2 --no-plot -q --out " +
+               path("real") + " --force");
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("which this command reads"), std::string::npos) << r.output;
+  EXPECT_EQ(read(in_real), block5);
+
+  // --out other/M/.. with M a link to elsewhere/z is elsewhere, as the kernel says: the
+  // results go there, and other's content stays.
+  const std::string precious = write("other/precious.txt", "keep");
+  write("elsewhere/z/old.txt", "old");
+  fs::create_directory_symlink(path("elsewhere/z"), path("other/M"));
+  r = run_rheo("simulate --scenario block5 --steps 2 --no-plot -q --out " + path("other/M") +
+               "/.. --force");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(read(precious), "keep");
+  EXPECT_TRUE(fs::exists(path("elsewhere/force.csv"))) << r.output;
+
+#ifdef RHEO_HAVE_RTL
+  // --force replaces an earlier waveform, never a pipe (or a device, or a socket).
+  ASSERT_EQ(mkfifo(path("pipe").c_str(), 0600), 0);
+  r = run_rheo("cosim --scenario block5 --steps 2 -q --trace " + path("pipe") + " --force --out " +
+               path("c"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("not a regular file"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_fifo(path("pipe")));
+#endif
 }
 
 #ifdef RHEO_HAVE_RTL

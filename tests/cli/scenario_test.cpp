@@ -209,7 +209,9 @@ INSTANTIATE_TEST_SUITE_P(
                     BadValue{"/integrator/mass_scale", -5.0, "positive"},
                     BadValue{"/protocol/depth_mm", 50.0, "below the block height"},
                     BadValue{"/protocol/speed_mm_s", 0.0, "positive"},
-                    BadValue{"/protocol/type", "sine", "push_hold_release"}),
+                    BadValue{"/protocol/type", "sine", "push_hold_release"},
+                    // One step of 1 ms ran silently for 1e-7 s.
+                    BadValue{"/duration_s", 1e-7, "at least one step of /integrator/dt_s"}),
     bad_value_name);
 
 TEST(BadScenario, ProtocolTimesMustIncreaseStrictly) {

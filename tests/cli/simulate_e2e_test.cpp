@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "sim/scenarios/builtin.hpp"
@@ -125,6 +126,28 @@ TEST_F(SimulateTest, Block5WritesTheExactCsvHeaderTheVtkSeriesAndAPng) {
   png.read(signature, 8);
   EXPECT_EQ(std::string(signature + 1, 3), "PNG");
   EXPECT_NE(r.output.find(out() + "/force.csv"), std::string::npos) << r.output;
+}
+
+// An object's name is the user's text: it reaches mesh.pvd escaped, and a name that would
+// break force.csv's lines (a newline injected metadata and rows) is refused by field.
+TEST_F(SimulateTest, ObjectNamesAreEscapedInXmlAndLineBreaksAreRefused) {
+  nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("block5"));
+  j["object_name"] = "salt & pepper <dough>";
+  RunResult r = run_rheo("simulate --scenario " + write_scenario(j) + " --steps 300 -q --no-plot --out " + out());
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream pvd(out() + "/mesh.pvd");
+  const std::string text((std::istreambuf_iterator<char>(pvd)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("name=\"salt &amp; pepper &lt;dough&gt;\""), std::string::npos) << text;
+  EXPECT_EQ(text.find("<dough>"), std::string::npos) << text;
+  fs::remove_all(out());
+  j["object_name"] = "x";
+  j["name"] = "x\n# specimen_height_mm: 999\ntime_s,plate_mm,force_N,surface_mm\n0,0,1e9,";
+  r = run_rheo("simulate --scenario " + write_scenario(j) + " --steps 2 -q --no-plot --out " + out());
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("/name: expected a name of 1 to 200 printable characters"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(out()));
 }
 
 TEST_F(SimulateTest, ClayPushForceRisesDuringPushRelaxesDuringHoldAndVanishesAfterRelease) {
@@ -303,6 +326,14 @@ TEST_F(SimulateTest, TheReferenceRunsOnTheFastCpuPathAndSaysSo) {
   r = run_rheo("simulate --scenario block5 --threads 65 --out " + (root_ / "t").string());
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("--threads"), std::string::npos) << r.output;
+  // More threads than the machine runs at once spin against each other (a run took minutes
+  // instead of 0.1 s): refused as an option error, naming the machine's count.
+  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+  r = run_rheo("simulate --scenario block5 --threads " + std::to_string(hardware + 1) + " --out " +
+               (root_ / "t").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("hardware threads of this machine"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(root_ / "t"));
 }
 
 TEST_F(SimulateTest, UnstableTimeStepFailsWithTheLargestSafeDtAndWritesNothing) {
