@@ -284,6 +284,20 @@ void read_material(const Field& material, BlockSpec& block, bool density_optiona
       m.spectrum[j].c = arm["c"].positive(" [Pa s]");
     }
   }
+  // The three-element part's tension is c2 (ldot - ddot): with c2 = 0, or with neither a
+  // spring k1 nor a damper c1 in the Voigt unit (then ddot = ldot), it is 0 at every step.
+  // Without a parallel arm the object then has nothing holding it together, and the run
+  // failed hundreds of steps later as "numerical failure ... (unstable dt or diverging
+  // model)".
+  const bool arms = (m.k2 > 0.0 && m.c3 > 0.0) || m.spectrum_arms > 0;
+  if (!arms && !(m.c2 > 0.0)) {
+    material["c2"].fail("c2 > 0 (the series damper carries the edge's tension: with c2 = 0 and "
+                        "no parallel arm (k2/c3, spectrum) the object holds no force)");
+  }
+  if (!arms && !(m.k1 > 0.0 || m.c1 > 0.0)) {
+    material["k1"].fail("k1 > 0 or c1 > 0 (with neither, the Voigt unit follows the stretching "
+                        "and the edge holds no tension; no parallel arm either)");
+  }
   if (material.has("volume_kv")) {
     // Area (2-D) / volume (3-D) preserving forces per element (model.hpp).
     block.volume.enabled = true;

@@ -70,6 +70,9 @@ struct Tool {
 struct ToolReaction {
   Vec3 force = Vec3::Zero();
   Vec3 torque = Vec3::Zero();
+  // Particles touching the tool; kContactsNotCounted where the backend does not count them
+  // (the fixed-point cores return the force only).
+  static constexpr int kContactsNotCounted = -1;
   int contacts = 0;
 };
 

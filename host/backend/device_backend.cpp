@@ -87,7 +87,12 @@ class DeviceBackend : public Backend {
                   std::to_string(plate_z.size()) + " steps of " + std::to_string(tools) +
                   " tools");
     }
-    reactions.assign(poses.size(), ToolReaction{});
+    // The core returns the reaction force, neither its torque nor how many particles
+    // touch: the count says it is not known rather than 0 (a haptic client read "no
+    // contact" under a 2 N reaction).
+    ToolReaction unknown;
+    unknown.contacts = ToolReaction::kContactsNotCounted;
+    reactions.assign(poses.size(), unknown);
     std::vector<double> force;
     force.reserve(plate_z.size());
     for (std::size_t k = 0; k < plate_z.size(); ++k) {

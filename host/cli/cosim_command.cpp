@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -262,7 +263,16 @@ void register_cosim(CLI::App& app) {
                   "block15 on one XC2V6000, with its board SRAM; docs/sweep_core.md) or "
                   "sweep-bittrue")
       ->capture_default_str()
-      ->check(backend_spec());
+      ->check(backend_spec())
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            // What a cosimulation compares with bittrue: a core, not another model.
+            const bool core = text == "rtl" || text == "sweep" || text == "sweep-bittrue" ||
+                              (text.rfind("remote:", 0) == 0 && text.size() > 7);
+            return core ? "" : "'" + text + "': expected a core to compare with bittrue: rtl, "
+                                            "remote:PATH, sweep or sweep-bittrue";
+          },
+          "CORE"));
   cmd->add_option("--idle-prob", args->idle_prob,
                   "rtl: probability per clock of an idle cycle on the core's input stream "
                   "(s_axis_tvalid low), default 0")
@@ -271,7 +281,8 @@ void register_cosim(CLI::App& app) {
                   "rtl: probability per clock of back-pressure on the core's output stream "
                   "(m_axis_tready low), default 0")
       ->check(number_in(0.0, 0.95, "a probability per clock"));
-  cmd->add_option("--seed", args->seed, "rtl: seed of the idle and stall patterns (default 1)");
+  cmd->add_option("--seed", args->seed, "rtl: seed of the idle and stall patterns (default 1)")
+      ->check(whole_number_in(0, std::numeric_limits<long long>::max(), "a seed"));
   // auto picks the element whose core computes the scenario's edges (the Maxwell arm: the
   // three-element+arm core, 1 lane); a simpler element drops what it lacks (listed).
   add_element_option(cmd, args->element, true);

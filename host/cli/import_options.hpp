@@ -60,6 +60,7 @@ inline void add_backend_check_options(CLI::App* cmd, BackendCheckArgs& a) {
                   "after the fit, run the fitted model(s) on this backend too and report the "
                   "plate force against the reference (DIR/backend_check.json): " +
                       backend::backend_names() + "; ref (the default) skips the check")
+      ->check(backend_spec())
       ->capture_default_str();
   cmd->add_option("--lanes", a.lanes, "lanes of the in-process fixed-point core of --backend")
       ->check(CLI::IsMember({1, 2, 4}))

@@ -1,6 +1,7 @@
 // `rheo`: command-line front end. Each subcommand is registered from its own file.
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <string>
 
 #include "host/cli/commands.hpp"
 #include "host/cli/version.hpp"
@@ -22,6 +23,20 @@ int main(int argc, char** argv) {
   rheo::cli::register_cosim_server(app);
   rheo::cli::register_haptic_server(app);
   rheo::cli::register_bench_link(app);
+  // A first word that is no command: name it (CLI11 says only that a command is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->check_name(argv[1]);
+    }
+    if (!known) {
+      std::cerr << "rheo: error: unknown command '" << argv[1] << "', expected one of: " << names
+                << "\nrheo: run 'rheo --help' for the commands\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

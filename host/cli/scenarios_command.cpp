@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "host/cli/cli_options.hpp"
 #include "host/cli/commands.hpp"
 #include "sim/error.hpp"
 #include "sim/scenario.hpp"
@@ -41,7 +42,8 @@ void register_scenarios(CLI::App& app) {
       "scenarios",
       "List the built-in scenarios, or print one as JSON (--show NAME): a starting point for "
       "your own scenario file.");
-  cmd->add_option("--show", *show, "print the JSON of this built-in scenario");
+  cmd->add_option("--show", *show, "print the JSON of this built-in scenario")
+      ->check(non_empty_name("a built-in scenario's name", "NAME"));
   cmd->callback([show]() { run_scenarios(*show); });
 }
 

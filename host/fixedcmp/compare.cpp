@@ -166,6 +166,14 @@ json compare(const Scenario& scenario, const std::vector<std::string>& specs,
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The force bound is relative to the reference's peak plate force: with no force at all
+  // (a run that ends before the plate touches) every format "met" it by 0 of 0 N.
+  if (!(peak_ref_force > 0.0)) {
+    throw Error("fixed: the plate force is 0 N in all " + std::to_string(options.steps) +
+                " steps of the reference, so the force bound (relative to its peak) cannot judge "
+                "a format; run enough steps for the plate to push (--steps, or the scenario's "
+                "whole protocol)");
+  }
 
   json backends = json::array();
   for (Tracker& tr : trackers) {

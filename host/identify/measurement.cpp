@@ -11,7 +11,9 @@
 #include <iomanip>
 #include <limits>
 #include <optional>
+#include <set>
 #include <sstream>
+#include <tuple>
 
 #include "sim/error.hpp"
 #include "sim/input_pipe.hpp"
@@ -1223,11 +1225,29 @@ void refuse_duplicate_records(const std::vector<Measurement>& fit,
     return equal(a.time_s, b.time_s) && equal(a.plate_mm, b.plate_mm) &&
            equal(a.force_N, b.force_N) && equal(a.surface_mm, b.surface_mm);
   };
+  // Samples (time, plate, force) two records share exactly: separate measurements share
+  // next to none (their noise differs), so a record that shares most of its samples with
+  // another is that record cut or extended (a copy with one row added passed as new).
+  using Sample = std::tuple<double, double, double>;
+  const auto shared = [](const Measurement& a, const Measurement& b) {
+    std::set<Sample> in_a;
+    for (std::size_t k = 0; k < a.size(); ++k) in_a.emplace(a.time_s[k], a.plate_mm[k], a.force_N[k]);
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < b.size(); ++k) n += in_a.count({b.time_s[k], b.plate_mm[k], b.force_N[k]});
+    return n;
+  };
   for (std::size_t i = 0; i < all.size(); ++i) {
     for (std::size_t j = i + 1; j < all.size(); ++j) {
-      if (!same(*all[i].first, *all[j].first)) continue;
+      const Measurement &a = *all[i].first, &b = *all[j].first;
+      std::string how = "the same record as";
+      if (!same(a, b)) {
+        const std::size_t n = shared(a, b), smaller = std::min(a.size(), b.size());
+        if (!(2 * n >= smaller && n > 0)) continue;
+        how = std::to_string(n) + " of its " + std::to_string(b.size()) +
+              " samples (time, plate and force alike) of";
+      }
       const bool across = std::string(all[i].second) != all[j].second;
-      throw Error(all[j].first->source + ": the " + all[j].second + " holds the same record as " +
+      throw Error(all[j].first->source + ": the " + all[j].second + " holds " + how + " " +
                   all[i].second + " " + all[i].first->source +
                   (across ? "; held-out data must be another measurement, or the check tests "
                             "nothing"

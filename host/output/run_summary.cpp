@@ -43,7 +43,15 @@ void RunSummary::add(double t, double force_N, double surface_mm) {
   }
   f.last_force = force_N;
   f.last_time = t;
-  if (f.contact_lost_time < 0.0 && force_N <= 0.0) f.contact_lost_time = t;
+  // The object may leave the plate and touch it again (a block springing back as the plate
+  // rises): the separation reported is the last one, and the touches between are counted.
+  if (force_N <= 0.0) {
+    if (f.contact_lost_time < 0.0) f.contact_lost_time = t;
+    if (f.first_lost_time < 0.0) f.first_lost_time = t;
+  } else if (f.contact_lost_time >= 0.0) {
+    f.contact_lost_time = -1.0;
+    ++f.recontacts;
+  }
   if (std::isfinite(surface_mm)) {
     f.last_surface = surface_mm;
     f.last_surface_time = t;
@@ -89,6 +97,11 @@ std::vector<std::string> RunSummary::lines() const {
         } else {
           line += format("the plate stays in contact (force %.4g N at t = %.4g s)", f.last_force,
                          f.last_time);
+        }
+        if (f.recontacts > 0) {
+          line += format(" (it first left at t = %.4g s; the object touched the plate again %.0f",
+                         f.first_lost_time, f.recontacts) +
+                  (f.recontacts == 1 ? " time)" : " times)");
         }
         release_end = f.phase.t_end;
         break;

@@ -31,7 +31,9 @@ class RunSummary {
     int samples = 0;
     double peak_force = 0.0, peak_time = 0.0;  // push
     double last_force = 0.0, last_time = 0.0;  // hold (end of hold), any phase
-    double contact_lost_time = -1.0;           // release: first sample with no force
+    double contact_lost_time = -1.0;  // release: first sample with no force after the last contact
+    double first_lost_time = -1.0;    // release: first sample with no force at all
+    int recontacts = 0;               // release: times the object touched the plate again
     double last_surface = 0.0, last_surface_time = -1.0;
   };
   std::size_t phase_index(double t);

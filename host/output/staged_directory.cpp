@@ -145,9 +145,12 @@ void refuse_replacing_inputs(const fs::path& target, const std::vector<std::stri
                              const std::string& option) {
   for (const std::string& input : inputs) {
     if (within(absolute_path(input), target) || within(fs::absolute(fs::path(input)), target)) {
-      throw Error(option + " " + target.string() + ": holds " + input +
+      const bool file = option != "--out";
+      throw Error((file ? "the output file " : option + " ") + target.string() +
+                  (file ? ": is " : ": holds ") + input +
                   ", which this command reads; replacing it (--force) would delete the input. "
-                  "Choose another " + option + " or move the input out of it");
+                  "Choose another " + (file ? std::string("file name") : option) +
+                  (file ? "" : " or move the input out of it"));
     }
   }
 }
@@ -161,6 +164,13 @@ StagedDirectory::StagedDirectory(const std::string& target, bool replace,
   target_ = t.string();
   if (t == t.root_path()) throw Error("--out " + target_ + ": the file system's root is not an output directory");
   std::error_code ec;
+  // A link that points nowhere: refused now, not after the whole run when the results
+  // cannot be moved into place.
+  if (fs::is_symlink(fs::symlink_status(t, ec)) && !fs::exists(t, ec)) {
+    throw Error("--out " + target_ + ": is a symbolic link to " +
+                fs::read_symlink(t, ec).string() +
+                ", which does not exist; create that directory or choose another --out");
+  }
   if (fs::exists(t, ec)) {
     if (!fs::is_directory(t, ec)) {
       throw Error(target_ + ": exists and is not a directory (choose another --out)");
@@ -236,7 +246,7 @@ std::string StagedDirectory::stage_file(const std::string& user_path,
       }
       if (!replace_)
         throw Error(p + ": exists; choose another file name or pass --force to replace it");
-      refuse_replacing_inputs(a, inputs_, "the output file");
+      refuse_replacing_inputs(a, inputs_, "file");
     }
     f.finals.push_back(a.string());
   }

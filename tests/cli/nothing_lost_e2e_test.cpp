@@ -153,6 +153,12 @@ TEST_F(NothingLost, StagingNamesLinksAndSpecialFilesNeverCostAnInput) {
   EXPECT_EQ(read(precious), "keep");
   EXPECT_TRUE(fs::exists(path("elsewhere/force.csv"))) << r.output;
 
+  // An --out that is a link to nothing is refused before the run, not after it.
+  fs::create_directory_symlink(path("nowhere"), path("dangling"));
+  r = run_rheo("simulate --scenario block5 --steps 2 --no-plot -q --out " + path("dangling"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("which does not exist"), std::string::npos) << r.output;
+
 #ifdef RHEO_HAVE_RTL
   // --force replaces an earlier waveform, never a pipe (or a device, or a socket).
   ASSERT_EQ(mkfifo(path("pipe").c_str(), 0600), 0);
@@ -258,6 +264,9 @@ TEST_F(NothingLost, OptionErrorsExitTwoWithThePrefixAndTheRangeInWords) {
       {"fit " + data() + " --strain 0", "a step strain between 0 and 1"},
       {"diagnose " + data() + " --geometry 10x10", "expected HxWxD in mm"},
       {"fit " + data() + " --as table", "relaxation_table"},
+      {"diagnose " + data() + " --backend nope", "--backend"},
+      {"cosim --scenario block5 --backend ref", "a core to compare with bittrue"},
+      {"cosim --scenario block5 --seed -1", "a seed"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.args);
@@ -269,6 +278,13 @@ TEST_F(NothingLost, OptionErrorsExitTwoWithThePrefixAndTheRangeInWords) {
     EXPECT_EQ(r.output.find("179769313486231570"), std::string::npos) << r.output;
   }
   EXPECT_EQ(run_rheo("simulate --help").status, 0);
+  // A first word that is no command is named.
+  const RunResult r = run_rheo("nosuchcommand --out " + path("out"));
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("unknown command 'nosuchcommand', expected one of: simulate"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(run_rheo("scenarios --show ''").status, 2);
 }
 
 TEST_F(NothingLost, ARunThatWouldFillTheDiskIsRefusedBeforeItStarts) {
@@ -298,6 +314,14 @@ TEST_F(NothingLost, ARecordGivenTwiceOrHeldOutAsItsOwnCheckIsRefused) {
                path("d"));
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("held-out"), std::string::npos) << r.output;
+  // The same record with one row more is still that record (it passed as new).
+  std::string longer = read(data());
+  if (longer.back() != '\n') longer += '\n';
+  longer += "100000,0,0,\n";
+  const std::string extended = write("extended.csv", longer);
+  r = run_rheo("fit " + data() + " " + extended + " --model-form column -q --out " + path("f"));
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("samples (time, plate and force alike) of"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(path("f")) || fs::exists(path("d")));
 }
 

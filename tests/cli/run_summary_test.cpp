@@ -57,6 +57,25 @@ TEST(RunSummaryTest, ReportsHoldEndForceContactLossAndResidualDeformation) {
       << lines[3];
 }
 
+// block5's release: the object leaves the rising plate, springs back and touches it again
+// for a second: the separation reported is the last one, and the touches are counted.
+TEST(RunSummaryTest, AReleaseThatTouchesAgainReportsTheLastSeparation) {
+  RunSummary s(PlateProtocol::push_hold_release(8.0, 4.0, 3.0, 3.0));
+  s.add(2.0, 7.0, kNoSurface);
+  s.add(5.0, 3.5, kNoSurface);
+  s.add(5.001, 0.0, kNoSurface);  // leaves
+  s.add(5.03, 1.94, kNoSurface);  // touches again
+  s.add(6.0, 0.5, kNoSurface);
+  s.add(6.07, 0.0, kNoSurface);  // leaves for good
+  s.add(6.5, 0.0, kNoSurface);
+  const std::vector<std::string> lines = s.lines();
+  ASSERT_GE(lines.size(), 3u);
+  EXPECT_NE(lines[2].find("the plate leaves the object at t = 6.07 s (it first left at t = 5.001 "
+                          "s; the object touched the plate again 1 time)"),
+            std::string::npos)
+      << lines[2];
+}
+
 TEST(RunSummaryTest, ARunThatEndsInTheHoldSaysThePlateIsNotYetReleased) {
   RunSummary s(PlateProtocol::push_hold_release(8.0, 4.0, 3.0, 3.0));
   s.add(1.0, 3.0, 4.0);

@@ -210,6 +210,8 @@ INSTANTIATE_TEST_SUITE_P(
                     BadValue{"/protocol/depth_mm", 50.0, "below the block height"},
                     BadValue{"/protocol/speed_mm_s", 0.0, "positive"},
                     BadValue{"/protocol/type", "sine", "push_hold_release"},
+                    // Edges that hold no tension: failed hundreds of steps later.
+                    BadValue{"/material/c2", 0.0, "c2 > 0 (the series damper carries"},
                     // One step of 1 ms ran silently for 1e-7 s.
                     BadValue{"/duration_s", 1e-7, "at least one step of /integrator/dt_s"}),
     bad_value_name);

@@ -73,6 +73,20 @@ TEST(FixedComparison, HardwareFormatMeetsTheBoundOnBlock5AndReportsAllFields) {
 // the model before the run (their gravity word rounds to 0, their plate rule cannot resolve
 // the force) and fail the bounds; the 35-bit format computes it (force error 6e-6 of the
 // peak) and passes.
+// A run in which the plate never pushes has no force to judge a format by: refused (every
+// format "met" the bound by an error of 0 of a 0 N peak).
+TEST(FixedComparison, ARunWithoutPlateForceIsRefusedNotPassed) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("rheo_fixed_noload_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const testing_support::RunResult r = testing_support::run_rheo(
+      "fixed --scenario block5 --steps 1 --no-sweep -q --out " + (dir / "out").string());
+  EXPECT_EQ(r.status, 1) << r.output;
+  EXPECT_NE(r.output.find("the plate force is 0 N in all 1 steps"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  fs::remove_all(dir);
+}
+
 TEST(FixedComparison, AWordLengthWhosePlateForceIsWrongDoesNotPass) {
   const fs::path dir =
       fs::temp_directory_path() / ("rheo_fixed_e2e_" + std::to_string(::getpid()));
