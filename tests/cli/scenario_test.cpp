@@ -17,6 +17,7 @@
 #include "sim/scenarios/builtin.hpp"
 #include "sim/simulator.hpp"
 #include "sim/stable_masses.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo {
 namespace {
@@ -101,7 +102,11 @@ TEST(BuiltinScenarios, ClayPushFollowsSeed002Protocol) {
 }
 
 TEST(BuiltinScenarios, KeepTheWeightPhysicalUnderMassScaling) {
-  const Scenario s = load_scenario("clay_push");
+  // The 3-D clay lattice with its masses scaled by 5000 (clay_push before it took the fits'
+  // stable-step masses).
+  const Scenario s =
+      load_scenario(std::string(RHEO_SOURCE_DIR) + "/data/scenarios/clay_push_lattice3d.json");
+  ASSERT_GT(s.block.mass_scale, 1.0);
   const Model model = s.build_model();
   double weight = 0.0;
   for (double m : model.mass) weight += m * -model.gravity.z();

@@ -179,10 +179,11 @@ TEST_F(SimulateTest, ClayPushForceRisesDuringPushRelaxesDuringHoldAndVanishesAft
   EXPECT_LT(residual, 9.6 - 0.5);
 }
 
-// clay_push's lattice on a frictionless plate, held 200 s: it buckles after about 70 s of
+// clay_push_lattice3d's 3-D lattice on a frictionless plate, held 200 s: it buckles after about 70 s of
 // hold (docs/model.md, "Plate grip"). The run fails naming the collapse, and writes nothing.
 TEST_F(SimulateTest, ALatticeGivingWayUnderAHeldPlateIsAnErrorNotAResult) {
-  nlohmann::json j = nlohmann::json::parse(*rheo::find_builtin_scenario_text("clay_push"));
+  std::ifstream lattice3d(std::string(RHEO_SOURCE_DIR) + "/data/scenarios/clay_push_lattice3d.json");
+  nlohmann::json j = nlohmann::json::parse(lattice3d);
   j["protocol"]["hold_s"] = 200;
   j["protocol"]["after_s"] = 0;
   j["protocol"]["plate_grip"] = false;
@@ -205,7 +206,7 @@ TEST_F(SimulateTest, ALatticeGivingWayUnderAHeldPlateIsAnErrorNotAResult) {
     EXPECT_NE(r.output.find("/protocol/plate_grip"), std::string::npos) << r.output;
     expect_no_output();
   }
-  // The same hold with the grip clay_push has runs to its end.
+  // The same hold with the grip clay_push_lattice3d has runs to its end.
   j["protocol"]["plate_grip"] = true;
   const RunResult r = run_rheo("simulate --scenario " + write_scenario(j) +
                                " --quiet --no-plot --out " + out());

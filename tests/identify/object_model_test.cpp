@@ -11,6 +11,8 @@
 #include "host/identify/object_specimen.hpp"
 #include "host/identify/virtual_clay.hpp"
 #include "sim/error.hpp"
+#include "sim/scenario.hpp"
+#include "sim/simulator.hpp"
 
 namespace rheo::identify {
 namespace {
@@ -30,6 +32,49 @@ SpecimenParams clay() {
 
 // Push 9.6 mm at 0.5 mm/s, hold 20 s, release at 0.5 mm/s, 10 s after; 10 Hz.
 Measurement protocol() { return push_hold_release(kClay, 9.6, 0.5, 20.0, 0.5, 10.0, 10.0); }
+
+// One clay, one simulation: the built-in clay_push scenario is the object model the fits
+// run for its specimen on --mesh 2d:5x5 (mesh, stable-step masses, plate rule). Its own run,
+// sampled every 10 ms, and the fits' simulation of that record with clay_push's material
+// read the same plate force.
+TEST(ObjectModel, ClayPushIsTheObjectModelTheFitsRun) {
+  const Scenario s = load_scenario("clay_push");
+  const Model model = s.build_model();
+  Simulator sim(model, s.options);
+  Measurement record;
+  record.source = "clay_push";
+  record.geometry = Geometry{s.block.sz * 1e3, s.block.sx * 1e3, s.block.sy * 1e3};
+  const long long steps = s.default_steps();
+  constexpr long long kEvery = 10;
+  double peak = 0.0;
+  for (long long i = 1; i <= steps; ++i) {
+    const double f = sim.step(s.plate_z(model, i)).plate_force_N;
+    peak = std::max(peak, f);
+    if (i % kEvery != 0) continue;
+    record.time_s.push_back(static_cast<double>(i) * s.options.dt);
+    record.plate_mm.push_back(s.plate_mm(i));
+    record.force_N.push_back(f);
+    record.surface_mm.push_back(std::nan(""));
+  }
+  const EdgeMaterial& mat = s.block.material;
+  SpecimenParams p;
+  p.E1 = mat.k1;
+  p.c1 = mat.c1;
+  p.c2 = mat.c2;
+  p.E2 = mat.k2;
+  p.c3 = mat.c3;
+  SimulationOptions o;
+  o.mesh = parse_object_mesh("2d:5x5");
+  const Prediction fits = simulate(record, p, o);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < record.size(); ++k) {
+    worst = std::max(worst, std::abs(fits.force_N[k] - record.force_N[k]));
+  }
+  ASSERT_GT(peak, 1.0);
+  // The two differ by the rounding of the step (the fits take the sample interval / 10 from
+  // the record's times) and of the plate's path between samples.
+  EXPECT_LT(worst, 1e-9 * peak) << "largest difference " << worst << " N of a " << peak << " N peak";
+}
 
 TEST(ObjectModel, PlateForceHasNoDropOrOvershootAtAnySwitchOfTheProtocol) {
   const Measurement m = protocol();

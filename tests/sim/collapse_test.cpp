@@ -16,6 +16,7 @@
 #include "sim/hold_watch.hpp"
 #include "sim/scenario.hpp"
 #include "sim/simulator.hpp"
+#include "tests/test_paths.hpp"
 
 namespace rheo {
 namespace {
@@ -48,8 +49,14 @@ Scenario block5_2d() {
   return s;
 }
 
+// The 3-D lattice clay_push was before it became the fits' object model: 5 x 2 x 5
+// particles, mass scaling and a gripping plate (data/scenarios/clay_push_lattice3d.json).
+Scenario lattice3d_clay() {
+  return load_scenario(std::string(RHEO_SOURCE_DIR) + "/data/scenarios/clay_push_lattice3d.json");
+}
+
 TEST(ElementWatch, NamesTheInvertedTetrahedronItsParticlesPlaceAndTime) {
-  const Model model = load_scenario("clay_push").build_model();
+  const Model model = lattice3d_clay().build_model();
   const ElementWatch watch(model);
   ASSERT_FALSE(watch.empty());
   EXPECT_EQ(watch.find_inverted(model.x0, 0.0), "");
@@ -143,9 +150,10 @@ TEST(HoldWatch, JudgesNothingBeforeThePlateMovedNorWhenThePlateNoLongerPresses) 
 }
 
 // Largest lateral distance of a plate particle from its rest position after `seconds` of
-// clay_push's push, on the reference or the fast path.
+// clay_push_lattice3d's push (the 3-D lattice with a gripping plate), on the reference or the
+// fast path.
 double plate_particles_lateral_slip(bool grip, bool fast_path, double seconds) {
-  Scenario s = load_scenario("clay_push");
+  Scenario s = lattice3d_clay();
   s.plate_grip = grip;
   const Model model = s.build_model();
   const long long steps = std::llround(seconds / s.options.dt);
@@ -171,7 +179,7 @@ double plate_particles_lateral_slip(bool grip, bool fast_path, double seconds) {
 }
 
 TEST(PlateGrip, AHeldParticleDoesNotSlideAlongThePlateOnTheReferenceAndTheFastPath) {
-  ASSERT_TRUE(load_scenario("clay_push").plate_grip);
+  ASSERT_TRUE(lattice3d_clay().plate_grip);
   for (const bool fast_path : {false, true}) {
     // Without grip the top spreads sideways as it is pressed (Poisson).
     // Without grip the top spreads sideways as it is pressed (Poisson): 0.38 mm in 5 s. With
