@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/error.hpp"
+#include "tests/fe/error_message.hpp"
 
 namespace rheo::fe {
 namespace {
@@ -127,15 +128,6 @@ TEST(FeLaw, PseudoLameMatricesGiveYoungsModulusAndPoissonRatio) {
   }
   // Plane stress takes the incompressible limit.
   EXPECT_NO_THROW(unit_elasticity(0.5, Formulation::kPlaneStress));
-}
-
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 TEST(FeLaw, BadParametersAreNamedWithTheirRange) {

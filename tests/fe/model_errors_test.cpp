@@ -9,18 +9,10 @@
 
 #include "fe/fe_model.hpp"
 #include "sim/error.hpp"
+#include "tests/fe/error_message.hpp"
 
 namespace rheo::fe {
 namespace {
-
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
 
 bool has(const std::string& m, const char* s) { return m.find(s) != std::string::npos; }
 
